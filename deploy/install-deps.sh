@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages semfuse needs to build, test and run, and only those
+# that are missing. Safe to run any number of times.
+#   deploy/install-deps.sh            build + test + run dependencies
+#   deploy/install-deps.sh --dry-run  print what would be installed
+set -euo pipefail
+
+packages=(
+  build-essential cmake pkg-config git
+  cyclonedds-dev cyclonedds-tools
+  libeigen3-dev
+  libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev libopencv-dnn-dev
+  libopenvdb-dev libtbb-dev libboost-iostreams-dev
+  libspdlog-dev libfmt-dev
+  libcli11-dev libyaml-cpp-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+)
+
+dry_run=0
+[[ "${1:-}" == "--dry-run" ]] && dry_run=1
+
+missing=()
+for p in "${packages[@]}"; do
+  status=$(dpkg-query -W -f='${db:Status-Status}' "$p" 2>/dev/null || true)
+  [[ "$status" == "installed" ]] || missing+=("$p")
+done
+
+if [[ ${#missing[@]} -eq 0 ]]; then
+  echo "install-deps: all ${#packages[@]} packages present"
+  exit 0
+fi
+
+echo "install-deps: missing: ${missing[*]}"
+[[ $dry_run -eq 1 ]] && exit 0
+
+sudo=""
+if [[ $(id -u) -ne 0 ]]; then
+  command -v sudo >/dev/null || { echo "install-deps: need root or sudo to install packages" >&2; exit 1; }
+  sudo="sudo"
+fi
+export DEBIAN_FRONTEND=noninteractive
+$sudo apt-get update -qq
+$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+echo "install-deps: installed ${#missing[@]} packages"
