@@ -2,7 +2,7 @@
 # a user's project can find_package(semfuse) and link semfuse::client.
 include(CMakePackageConfigHelpers)
 
-install(TARGETS semfuse_idl semfuse_common semfuse_client
+install(TARGETS semfuse_idl ${SEMFUSE_COMMON_TARGETS} semfuse_client
   EXPORT semfuseTargets
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
