@@ -1,0 +1,156 @@
+// The server's bookkeeping: bounded queues keep the newest frames, the history finds frames for
+// late segmentations and forgets the oldest, waiting segmentations time out, counters add up.
+#include <thread>
+
+#include <gtest/gtest.h>
+
+#include "event_counters.hpp"
+#include "frame_history.hpp"
+#include "frame_queue.hpp"
+#include "pending_segmentations.hpp"
+
+using namespace semfuse;
+using namespace semfuse::server;
+using namespace std::chrono_literals;
+
+namespace {
+Frame makeFrame(const std::string& camera, uint64_t seq) {
+  Frame f;
+  f.camera_id = camera;
+  f.seq = seq;
+  return f;
+}
+Segmentation makeSegmentation(const std::string& camera, uint64_t seq) {
+  Segmentation s;
+  s.camera_id = camera;
+  s.frame_seq = seq;
+  return s;
+}
+HistoryEntry makeEntry(const std::string& camera, uint64_t seq, int depth_pixels) {
+  HistoryEntry e;
+  e.camera_id = camera;
+  e.seq = seq;
+  e.integrated = depth_pixels > 0;
+  if (depth_pixels > 0) e.depth = cv::Mat(1, depth_pixels, CV_32FC1, cv::Scalar(1.0f));
+  return e;
+}
+}  // namespace
+
+TEST(FrameQueue, FullQueueDropsOldestAndKeepsNewest) {
+  FrameQueue queue(2);
+  EXPECT_FALSE(queue.push(makeFrame("cam", 1)));
+  EXPECT_FALSE(queue.push(makeFrame("cam", 2)));
+  auto evicted = queue.push(makeFrame("cam", 3));
+  ASSERT_TRUE(evicted);
+  EXPECT_EQ(evicted->seq, 1u);
+  EXPECT_EQ(queue.size(), 2u);
+  EXPECT_EQ(queue.pop(10ms)->seq, 2u);
+  EXPECT_EQ(queue.pop(10ms)->seq, 3u);
+  EXPECT_FALSE(queue.pop(1ms));
+}
+
+TEST(FrameQueue, CamerasAreServedRoundRobinAndBoundedSeparately) {
+  FrameQueue queue(3);
+  for (uint64_t s = 1; s <= 3; ++s) EXPECT_FALSE(queue.push(makeFrame("a", s)));
+  EXPECT_FALSE(queue.push(makeFrame("b", 10)));  // b has its own bound
+  EXPECT_FALSE(queue.push(makeFrame("b", 11)));
+  std::vector<std::string> order;
+  while (auto f = queue.pop(1ms)) order.push_back(f->camera_id + std::to_string(f->seq));
+  EXPECT_EQ(order, (std::vector<std::string>{"a1", "b10", "a2", "b11", "a3"}));
+}
+
+TEST(FrameQueue, WakeReleasesAWaitingPop) {
+  FrameQueue queue(2);
+  std::thread waker([&] {
+    std::this_thread::sleep_for(20ms);
+    queue.wake();
+  });
+  auto start = std::chrono::steady_clock::now();
+  EXPECT_FALSE(queue.pop(5s));
+  EXPECT_LT(std::chrono::steady_clock::now() - start, 4s);
+  waker.join();
+}
+
+TEST(FrameHistory, FindsFramesAndEvictsOldestByCount) {
+  FrameHistory history(3, 1u << 30);
+  for (uint64_t s = 1; s <= 5; ++s) history.add(makeEntry("cam", s, 100));
+  EXPECT_EQ(history.size(), 3u);
+  EXPECT_EQ(history.evicted(), 2u);
+  EXPECT_EQ(history.find("cam", 1), nullptr);
+  EXPECT_EQ(history.find("cam", 2), nullptr);
+  ASSERT_NE(history.find("cam", 3), nullptr);
+  EXPECT_EQ(history.find("cam", 5)->seq, 5u);
+  EXPECT_EQ(history.find("other", 5), nullptr);
+  EXPECT_EQ(history.lastSeq("cam"), 5u);
+  EXPECT_FALSE(history.lastSeq("other"));
+}
+
+TEST(FrameHistory, EvictsByMemory) {
+  const int pixels = 1000;  // 4000 bytes of depth each
+  FrameHistory history(100, 3 * (pixels * 4 + sizeof(HistoryEntry)));
+  for (uint64_t s = 1; s <= 4; ++s) history.add(makeEntry("cam", s, pixels));
+  EXPECT_EQ(history.size(), 3u);
+  EXPECT_EQ(history.find("cam", 1), nullptr);
+  EXPECT_LE(history.bytes(), 3 * (pixels * 4 + sizeof(HistoryEntry)));
+}
+
+TEST(FrameHistory, RestartedSequenceReplacesEntry) {
+  FrameHistory history(10, 1u << 30);
+  history.add(makeEntry("cam", 7, 10));
+  history.add(makeEntry("cam", 7, 20));
+  EXPECT_EQ(history.size(), 1u);
+  EXPECT_EQ(history.find("cam", 7)->depth.total(), 20u);
+}
+
+TEST(PendingSegmentations, MatchesByCameraAndSeqAndExpires) {
+  PendingSegmentations pending(8, 100ms);
+  auto t0 = PendingSegmentations::Clock::now();
+  EXPECT_TRUE(pending.add(makeSegmentation("a", 5), t0).empty());
+  EXPECT_TRUE(pending.add(makeSegmentation("b", 5), t0).empty());
+  EXPECT_TRUE(pending.add(makeSegmentation("a", 5), t0 + 50ms).empty());  // a second segmenter
+  EXPECT_TRUE(pending.add(makeSegmentation("a", 6), t0 + 80ms).empty());
+
+  auto matched = pending.takeFor("a", 5);
+  EXPECT_EQ(matched.size(), 2u);
+  EXPECT_EQ(pending.size(), 2u);
+
+  auto expired = pending.expire(t0 + 150ms);  // only b/5 waited more than 100 ms
+  ASSERT_EQ(expired.size(), 1u);
+  EXPECT_EQ(expired[0].camera_id, "b");
+  EXPECT_EQ(pending.size(), 1u);
+}
+
+TEST(PendingSegmentations, FullSetEvictsOldest) {
+  PendingSegmentations pending(2, 10s);
+  EXPECT_TRUE(pending.add(makeSegmentation("a", 1)).empty());
+  EXPECT_TRUE(pending.add(makeSegmentation("a", 2)).empty());
+  auto evicted = pending.add(makeSegmentation("a", 3));
+  ASSERT_EQ(evicted.size(), 1u);
+  EXPECT_EQ(evicted[0].frame_seq, 1u);
+}
+
+TEST(EventCounters, CountsByReasonAndCamera) {
+  EventCounters counters;
+  counters.add("queue_full", "cam0");
+  counters.add("queue_full", "cam0", 2);
+  counters.add("bad_pose", "cam1");
+  EXPECT_EQ(counters.get("queue_full", "cam0"), 3u);
+  EXPECT_EQ(counters.get("queue_full", "cam1"), 0u);
+  EXPECT_EQ(counters.total(), 4u);
+  EXPECT_EQ(counters.totalFor("cam1"), 1u);
+  auto snap = counters.snapshot();
+  ASSERT_EQ(snap.size(), 2u);
+  EXPECT_EQ(snap[0].reason, "bad_pose");
+}
+
+TEST(ErrorLog, KeepsTheNewestErrors) {
+  ErrorLog log(2);
+  log.record("ingest", "first");
+  log.record("ingest", "second");
+  log.record("query", "third");
+  auto snap = log.snapshot();
+  ASSERT_EQ(snap.size(), 2u);
+  EXPECT_EQ(snap[0].message, "second");
+  EXPECT_EQ(snap[1].source, "query");
+  EXPECT_EQ(log.totalRecorded(), 3u);
+}
