@@ -1,0 +1,50 @@
+#pragma once
+// CameraPublisher: puts RGB-D frames on rt/semfuse/frames for the server to fuse.
+//
+//   semfuse::dds::Participant participant;
+//   semfuse::client::CameraPublisher camera(participant, {});
+//   camera.waitForServer(std::chrono::seconds(10));   // so the first frames are not lost to discovery
+//   camera.publish(frame);                              // depth CV_32FC1 metres, colour CV_8UC3 RGB
+//   camera.waitForAcknowledgements(std::chrono::seconds(5));
+#include <chrono>
+#include <memory>
+
+#include "semfuse/client/encoding.hpp"
+#include "semfuse/core/result.hpp"
+#include "semfuse/core/types.hpp"
+#include "semfuse/dds/participant.hpp"
+
+namespace semfuse::client {
+
+struct CameraPublisherOptions {
+  DepthEncoding depth_encoding = DepthEncoding::kRaw16;
+  ColorEncoding color_encoding = ColorEncoding::kJpeg;
+  int jpeg_quality = 90;
+};
+
+class CameraPublisher {
+ public:
+  CameraPublisher(const dds::Participant& participant, CameraPublisherOptions options);
+  ~CameraPublisher();
+  CameraPublisher(CameraPublisher&&) noexcept;
+  CameraPublisher& operator=(CameraPublisher&&) noexcept;
+
+  // Encodes and writes one frame. Fails on a malformed frame or when the server's reader does not
+  // acknowledge in time (the writer is reliable: a write blocks while the server is behind).
+  Status publish(const Frame& frame);
+
+  // True once at least one frames reader (a server) is matched, waiting at most `timeout`.
+  bool waitForServer(std::chrono::milliseconds timeout) const;
+  int matchedReaders() const;
+  // Blocks until every written frame was acknowledged by every matched reader, or the timeout.
+  Status waitForAcknowledgements(std::chrono::milliseconds timeout) const;
+
+  // Bytes of the last published frame's depth and colour payloads (for logs and benchmarks).
+  std::size_t lastPayloadBytes() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace semfuse::client

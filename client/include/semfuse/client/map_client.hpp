@@ -1,0 +1,126 @@
+#pragma once
+// MapClient: every query of the map server as one blocking call with a timeout, plus the
+// server's latest status and label legend (transient-local topics: a new client gets them at once).
+//
+//   semfuse::dds::Participant participant;
+//   semfuse::client::MapClient map(participant);
+//   auto view = map.raycast(pose, intrinsics, semfuse::client::kAllLayers, std::chrono::seconds(5));
+//   if (!view) std::cerr << view.error() << "\n";
+//   else cv::imwrite("depth.exr", view.value().depth);
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core/mat.hpp>
+
+#include "semfuse/client/call_result.hpp"
+#include "semfuse/client/server_status.hpp"
+#include "semfuse/core/legend.hpp"
+#include "semfuse/core/types.hpp"
+#include "semfuse/dds/participant.hpp"
+
+namespace semfuse::client {
+
+using Timeout = std::chrono::milliseconds;
+
+// Raycast layers (same bits as Raycast_Request_Constants in idl/semfuse/srv.idl).
+enum Layer : uint32_t {
+  kDepthLayer = 1,
+  kNormalsLayer = 2,
+  kLabelsLayer = 4,
+  kConfidenceLayer = 8,
+  kColorLayer = 16,
+};
+inline constexpr uint32_t kAllLayers = 31;
+
+// A rendered view of the map. Layers that were not requested are empty.
+struct RaycastImages {
+  cv::Mat depth;       // CV_32FC1 metres, NaN = no surface
+  cv::Mat normals;     // CV_32FC3 world-frame unit normals
+  cv::Mat labels;      // CV_16UC1, 0 = unlabeled
+  cv::Mat confidence;  // CV_32FC1
+  cv::Mat color;       // CV_8UC3 RGB
+};
+
+struct VoxelSample {
+  bool observed = false;
+  LabelId label = kUnlabeled;
+  float confidence = 0.0F;
+  float tsdf = 0.0F;
+  float weight = 0.0F;
+};
+
+struct LabelArea {
+  LabelId label = kUnlabeled;
+  uint64_t surface_voxels = 0;
+  double area_m2 = 0.0;
+};
+
+struct RegionSummary {
+  std::vector<LabelArea> histogram;
+  uint64_t observed_voxels = 0;
+  uint64_t occupied_voxels = 0;
+  uint64_t free_voxels = 0;
+  double occupancy = 0.0;
+};
+
+struct ObjectInstance {
+  uint32_t id = 0;
+  LabelId label = kUnlabeled;
+  Eigen::Vector3d bbox_min = Eigen::Vector3d::Zero();
+  Eigen::Vector3d bbox_max = Eigen::Vector3d::Zero();
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  uint64_t voxel_count = 0;
+  float mean_confidence = 0.0F;
+};
+
+struct Box {
+  Eigen::Vector3d min;
+  Eigen::Vector3d max;
+};
+
+struct MeshData {
+  std::vector<uint8_t> ply;  // a complete PLY file
+  uint32_t vertex_count = 0;
+  uint32_t face_count = 0;
+};
+
+class MapClient {
+ public:
+  explicit MapClient(const dds::Participant& participant);
+  ~MapClient();
+  MapClient(const MapClient&) = delete;
+  MapClient& operator=(const MapClient&) = delete;
+
+  CallResult<RaycastImages> raycast(const Pose& camera_to_world, const PinholeIntrinsics& intrinsics,
+                                    uint32_t layers, Timeout timeout, float max_range = 0.0F);
+  CallResult<std::vector<VoxelSample>> labelsAt(const std::vector<Eigen::Vector3d>& points, Timeout timeout);
+  CallResult<RegionSummary> region(const Box& box, Timeout timeout);
+  // label 0 = objects of every label.
+  CallResult<std::vector<ObjectInstance>> objects(LabelId label, uint32_t min_voxels, Timeout timeout);
+  // Fetches every chunk of the mesh; `timeout` applies to each chunk's request.
+  CallResult<MeshData> mesh(const std::optional<Box>& box, Timeout timeout);
+
+  CallResult<ServerStatus> stats(Timeout timeout);
+  // path "" = the server's own map file.
+  CallResult<ServerStatus> save(const std::string& path, Timeout timeout);
+  CallResult<ServerStatus> load(const std::string& path, Timeout timeout);
+  CallResult<ServerStatus> reset(Timeout timeout);
+
+  // The newest status / legend received so far (nullopt before the first one). The wait
+  // variants block up to `timeout` for the first one.
+  std::optional<ServerStatus> latestStatus();
+  std::optional<LabelLegend> latestLegend();
+  std::optional<ServerStatus> waitForStatus(Timeout timeout);
+  std::optional<LabelLegend> waitForLegend(Timeout timeout);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace semfuse::client

@@ -1,0 +1,261 @@
+#include "semfuse/client/map_client.hpp"
+
+#include <mutex>
+
+#include "semfuse/dds/qos.hpp"
+#include "semfuse/dds/reader.hpp"
+#include "semfuse/dds/rpc.hpp"
+#include "semfuse/dds/topic.hpp"
+#include "semfuse/dds/topics.hpp"
+#include "semfuse/dds/waitset.hpp"
+#include "wire_convert.hpp"
+
+namespace semfuse::client {
+namespace {
+
+using RaycastRpc = dds::RpcClient<semfuse_srv_dds__Raycast_Request_, semfuse_srv_dds__Raycast_Response_>;
+using LabelsAtRpc = dds::RpcClient<semfuse_srv_dds__LabelsAt_Request_, semfuse_srv_dds__LabelsAt_Response_>;
+using RegionRpc = dds::RpcClient<semfuse_srv_dds__Region_Request_, semfuse_srv_dds__Region_Response_>;
+using ObjectsRpc = dds::RpcClient<semfuse_srv_dds__Objects_Request_, semfuse_srv_dds__Objects_Response_>;
+using MeshRpc = dds::RpcClient<semfuse_srv_dds__Mesh_Request_, semfuse_srv_dds__Mesh_Response_>;
+using AdminRpc = dds::RpcClient<semfuse_srv_dds__Admin_Request_, semfuse_srv_dds__Admin_Response_>;
+
+geometry_msgs_msg_dds__Point_ toPoint(const Eigen::Vector3d& p) { return {p.x(), p.y(), p.z()}; }
+Eigen::Vector3d fromPoint(const geometry_msgs_msg_dds__Point_& p) { return {p.x, p.y, p.z}; }
+
+// One request/reply round trip. RpcClient reports only transport problems as errors (no server
+// matched, no reply in time), which are timeouts from the caller's point of view; a reply with a
+// non-OK status is the server's error.
+template <class Reply, class Rpc, class Request, class Convert>
+auto call(Rpc& rpc, dds::Sample<Request>& request, Timeout timeout, Convert&& convert)
+    -> CallResult<decltype(convert(std::declval<const Reply&>()))> {
+  auto reply = rpc.call(*request, timeout);
+  if (!reply) return {Failure::kTimeout, reply.error()};
+  const Reply& r = *reply.value();
+  if (!dds::replyOk(r)) {
+    return {Failure::kServer, "server error " + std::to_string(r.status) + ": " + std::string(dds::replyMessage(r))};
+  }
+  return convert(r);
+}
+
+}  // namespace
+
+struct MapClient::Impl {
+  explicit Impl(const dds::Participant& p)
+      : raycast(p, dds::topics::raycast()),
+        labels_at(p, dds::topics::labelsAt()),
+        region(p, dds::topics::region()),
+        objects(p, dds::topics::objects()),
+        mesh(p, dds::topics::mesh()),
+        admin(p, dds::topics::admin()),
+        status_topic(p, dds::topics::kStatus),
+        legend_topic(p, dds::topics::kLabels),
+        status_reader(status_topic, dds::qos::status()),
+        legend_reader(legend_topic, dds::qos::legend()),
+        status_ready(status_reader.handle()),
+        legend_ready(legend_reader.handle()),
+        status_waitset(p),
+        legend_waitset(p) {
+    status_waitset.attach(status_ready.handle());
+    legend_waitset.attach(legend_ready.handle());
+  }
+
+  void poll() {
+    std::lock_guard lock(mutex);
+    while (auto s = status_reader.take()) status = wire::decodeStatus(**s);
+    while (auto l = legend_reader.take()) legend = wire::decodeLegend(**l);
+  }
+
+  CallResult<ServerStatus> adminCall(uint8_t command, const std::string& path, Timeout timeout) {
+    dds::Sample<semfuse_srv_dds__Admin_Request_> request;
+    request->command = command;
+    dds::setString(request->path, path);
+    return call<semfuse_srv_dds__Admin_Response_>(admin, request, timeout, [](const auto& r) {
+      return wire::decodeStatus(r.server_status);
+    });
+  }
+
+  RaycastRpc raycast;
+  LabelsAtRpc labels_at;
+  RegionRpc region;
+  ObjectsRpc objects;
+  MeshRpc mesh;
+  AdminRpc admin;
+  dds::Topic<semfuse_msg_dds__ServerStatus_> status_topic;
+  dds::Topic<semfuse_msg_dds__LabelLegend_> legend_topic;
+  dds::Reader<semfuse_msg_dds__ServerStatus_> status_reader;
+  dds::Reader<semfuse_msg_dds__LabelLegend_> legend_reader;
+  dds::ReadCondition status_ready;
+  dds::ReadCondition legend_ready;
+  dds::WaitSet status_waitset;
+  dds::WaitSet legend_waitset;
+  std::mutex mutex;
+  std::optional<ServerStatus> status;
+  std::optional<LabelLegend> legend;
+};
+
+MapClient::MapClient(const dds::Participant& participant) : impl_(std::make_unique<Impl>(participant)) {}
+MapClient::~MapClient() = default;
+
+CallResult<RaycastImages> MapClient::raycast(const Pose& camera_to_world, const PinholeIntrinsics& intrinsics,
+                                             uint32_t layers, Timeout timeout, float max_range) {
+  dds::Sample<semfuse_srv_dds__Raycast_Request_> request;
+  wire::poseToArray(camera_to_world, request->camera_to_world);
+  request->intrinsics = {static_cast<uint32_t>(intrinsics.width), static_cast<uint32_t>(intrinsics.height),
+                         intrinsics.fx, intrinsics.fy, intrinsics.cx, intrinsics.cy};
+  request->layers = layers;
+  request->max_range = max_range;
+  auto reply = impl_->raycast.call(*request, timeout);
+  if (!reply) return {Failure::kTimeout, reply.error()};
+  const auto& r = *reply.value();
+  if (!dds::replyOk(r)) {
+    return {Failure::kServer, "server error " + std::to_string(r.status) + ": " + std::string(dds::replyMessage(r))};
+  }
+  RaycastImages images;
+  const std::pair<const sensor_msgs_msg_dds__Image_*, cv::Mat*> layers_out[] = {
+      {&r.depth, &images.depth}, {&r.normals, &images.normals}, {&r.labels, &images.labels},
+      {&r.confidence, &images.confidence}, {&r.color, &images.color}};
+  for (const auto& [image, mat] : layers_out) {
+    auto decoded = wire::decodeImage(*image);
+    if (!decoded) return {Failure::kClient, "raycast reply: " + decoded.error()};
+    *mat = std::move(decoded).value();
+  }
+  return images;
+}
+
+CallResult<std::vector<VoxelSample>> MapClient::labelsAt(const std::vector<Eigen::Vector3d>& points, Timeout timeout) {
+  dds::Sample<semfuse_srv_dds__LabelsAt_Request_> request;
+  std::vector<geometry_msgs_msg_dds__Point_> wire_points;
+  for (const auto& p : points) wire_points.push_back(toPoint(p));
+  dds::setSequence(request->points, wire_points.data(), wire_points.size());
+  return call<semfuse_srv_dds__LabelsAt_Response_>(impl_->labels_at, request, timeout, [](const auto& r) {
+    std::vector<VoxelSample> samples;
+    for (uint32_t i = 0; i < r.samples._length; ++i) {
+      const auto& s = r.samples._buffer[i];
+      samples.push_back({s.observed, s.label, s.confidence, s.tsdf, s.weight});
+    }
+    return samples;
+  });
+}
+
+CallResult<RegionSummary> MapClient::region(const Box& box, Timeout timeout) {
+  dds::Sample<semfuse_srv_dds__Region_Request_> request;
+  request->min = toPoint(box.min);
+  request->max = toPoint(box.max);
+  return call<semfuse_srv_dds__Region_Response_>(impl_->region, request, timeout, [](const auto& r) {
+    RegionSummary summary;
+    for (uint32_t i = 0; i < r.histogram._length; ++i) {
+      const auto& h = r.histogram._buffer[i];
+      summary.histogram.push_back({h.label, h.surface_voxels, h.area_m2});
+    }
+    summary.observed_voxels = r.observed_voxels;
+    summary.occupied_voxels = r.occupied_voxels;
+    summary.free_voxels = r.free_voxels;
+    summary.occupancy = r.occupancy;
+    return summary;
+  });
+}
+
+CallResult<std::vector<ObjectInstance>> MapClient::objects(LabelId label, uint32_t min_voxels, Timeout timeout) {
+  dds::Sample<semfuse_srv_dds__Objects_Request_> request;
+  request->label = label;
+  request->min_voxels = min_voxels;
+  return call<semfuse_srv_dds__Objects_Response_>(impl_->objects, request, timeout, [](const auto& r) {
+    std::vector<ObjectInstance> objects;
+    for (uint32_t i = 0; i < r.objects._length; ++i) {
+      const auto& o = r.objects._buffer[i];
+      objects.push_back({o.id, o.label, fromPoint(o.bbox_min), fromPoint(o.bbox_max), fromPoint(o.centroid),
+                         o.voxel_count, o.mean_confidence});
+    }
+    return objects;
+  });
+}
+
+CallResult<MeshData> MapClient::mesh(const std::optional<Box>& box, Timeout timeout) {
+  MeshData mesh;
+  uint64_t mesh_id = 0;
+  uint32_t chunk_count = 1;
+  uint64_t total_bytes = 0;
+  for (uint32_t chunk = 0; chunk < chunk_count; ++chunk) {
+    dds::Sample<semfuse_srv_dds__Mesh_Request_> request;
+    request->use_box = box.has_value();
+    if (box) {
+      request->box_min = toPoint(box->min);
+      request->box_max = toPoint(box->max);
+    }
+    request->mesh_id = mesh_id;
+    request->chunk_index = chunk;
+    auto reply = impl_->mesh.call(*request, timeout);
+    if (!reply) return {Failure::kTimeout, reply.error()};
+    const auto& r = *reply.value();
+    if (!dds::replyOk(r)) {
+      return {Failure::kServer, "server error " + std::to_string(r.status) + ": " + std::string(dds::replyMessage(r))};
+    }
+    if (chunk == 0) {
+      // The first reply names the mesh that later chunks must come from.
+      mesh_id = r.mesh_id;
+      chunk_count = std::max<uint32_t>(1, r.chunk_count);
+      total_bytes = r.total_bytes;
+      mesh.vertex_count = r.vertex_count;
+      mesh.face_count = r.face_count;
+      mesh.ply.reserve(total_bytes);
+    } else if (r.mesh_id != mesh_id || r.chunk_index != chunk) {
+      return {Failure::kClient, "mesh reply for chunk " + std::to_string(r.chunk_index) + " of mesh " +
+                                    std::to_string(r.mesh_id) + ", expected chunk " + std::to_string(chunk) +
+                                    " of mesh " + std::to_string(mesh_id)};
+    }
+    mesh.ply.insert(mesh.ply.end(), r.ply._buffer, r.ply._buffer + r.ply._length);
+  }
+  if (total_bytes != 0 && mesh.ply.size() != total_bytes) {
+    return {Failure::kClient, "mesh has " + std::to_string(mesh.ply.size()) + " bytes, server announced " +
+                                  std::to_string(total_bytes)};
+  }
+  return mesh;
+}
+
+CallResult<ServerStatus> MapClient::stats(Timeout timeout) {
+  return impl_->adminCall(semfuse_srv_dds__Admin_Request_Constants_STATS, "", timeout);
+}
+CallResult<ServerStatus> MapClient::save(const std::string& path, Timeout timeout) {
+  return impl_->adminCall(semfuse_srv_dds__Admin_Request_Constants_SAVE, path, timeout);
+}
+CallResult<ServerStatus> MapClient::load(const std::string& path, Timeout timeout) {
+  return impl_->adminCall(semfuse_srv_dds__Admin_Request_Constants_LOAD, path, timeout);
+}
+CallResult<ServerStatus> MapClient::reset(Timeout timeout) {
+  return impl_->adminCall(semfuse_srv_dds__Admin_Request_Constants_RESET, "", timeout);
+}
+
+std::optional<ServerStatus> MapClient::latestStatus() {
+  impl_->poll();
+  std::lock_guard lock(impl_->mutex);
+  return impl_->status;
+}
+
+std::optional<LabelLegend> MapClient::latestLegend() {
+  impl_->poll();
+  std::lock_guard lock(impl_->mutex);
+  return impl_->legend;
+}
+
+std::optional<ServerStatus> MapClient::waitForStatus(Timeout timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  for (;;) {
+    if (auto s = latestStatus()) return s;
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    if (left.count() <= 0) return std::nullopt;
+    static_cast<void>(impl_->status_waitset.wait(DDS_MSECS(left.count())));
+  }
+}
+
+std::optional<LabelLegend> MapClient::waitForLegend(Timeout timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  for (;;) {
+    if (auto l = latestLegend()) return l;
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    if (left.count() <= 0) return std::nullopt;
+    static_cast<void>(impl_->legend_waitset.wait(DDS_MSECS(left.count())));
+  }
+}
+
+}  // namespace semfuse::client

@@ -1,0 +1,173 @@
+#include "semfuse/client/segmenter.hpp"
+
+#include <atomic>
+#include <condition_variable>
+#include <mutex>
+#include <optional>
+#include <thread>
+
+#include <spdlog/spdlog.h>
+
+#include "semfuse/dds/qos.hpp"
+#include "semfuse/dds/reader.hpp"
+#include "semfuse/dds/sample.hpp"
+#include "semfuse/dds/topic.hpp"
+#include "semfuse/dds/topics.hpp"
+#include "semfuse/dds/waitset.hpp"
+#include "semfuse/dds/writer.hpp"
+#include "wire_convert.hpp"
+
+namespace semfuse::client {
+
+using FrameMsg = semfuse_msg_dds__Frame_;
+using SegmentationMsg = semfuse_msg_dds__Segmentation_;
+
+struct Segmenter::Impl {
+  Impl(const dds::Participant& p, SegmentFunction fn, SegmenterOptions opts)
+      : function(std::move(fn)),
+        options(std::move(opts)),
+        frames_topic(p, dds::topics::kFrames),
+        segmentations_topic(p, dds::topics::kSegmentations),
+        frames(frames_topic, dds::qos::frames()),
+        segmentations(segmentations_topic, dds::qos::segmentations()),
+        waitset(p),
+        frames_ready(frames.handle(), DDS_ANY_STATE),
+        wake(p) {
+    waitset.attach(frames_ready.handle());
+    waitset.attach(wake.handle());
+  }
+
+  // Receiver thread: takes every frame off the reader as it comes, so that DDS's keep-last
+  // history never fills, and leaves only the newest selected one (still encoded) in the slot.
+  void receive() {
+    while (!stopping) {
+      auto woke = waitset.wait(DDS_MSECS(200));
+      if (!woke) {
+        spdlog::error("segmenter: {}", woke.error());
+        return;
+      }
+      while (auto sample = frames.take()) {
+        std::lock_guard lock(mutex);
+        ++stats.received;
+        if (!options.camera_id.empty() && options.camera_id != ((*sample)->camera_id ? (*sample)->camera_id : "")) {
+          continue;
+        }
+        if ((stats.received - 1) % static_cast<uint64_t>(options.every) != 0) {
+          ++stats.not_selected;
+          continue;
+        }
+        if (slot) ++stats.skipped;
+        slot = std::move(sample);
+        slot_changed.notify_one();
+      }
+    }
+  }
+
+  // Worker thread: decode, segment, (delay), publish the newest frame, one at a time.
+  void work() {
+    dds::Sample<SegmentationMsg> out;
+    for (;;) {
+      std::optional<dds::Sample<FrameMsg>> next;
+      {
+        std::unique_lock lock(mutex);
+        slot_changed.wait(lock, [&] { return slot.has_value() || stopping; });
+        if (!slot) return;  // stopping with nothing left to do
+        next = std::move(slot);
+        slot.reset();
+      }
+      process(**next, out);
+    }
+  }
+
+  void process(const FrameMsg& msg, dds::Sample<SegmentationMsg>& out) {
+    auto frame = wire::decodeFrame(msg);
+    if (!frame) return fail("cannot decode " + frame.error());
+    const auto started = std::chrono::steady_clock::now();
+    auto result = function(frame.value());
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
+    if (!result) return fail("frame " + std::to_string(msg.seq) + ": " + result.error());
+    Segmentation segmentation = std::move(result).value();
+    segmentation.camera_id = frame.value().camera_id;
+    segmentation.frame_seq = frame.value().seq;
+    segmentation.stamp = frame.value().stamp;
+    segmentation.segmenter_id = options.segmenter_id;
+    {
+      std::lock_guard lock(mutex);
+      ++stats.segmented;
+      stats.total_segment_ms += ms;
+      stats.last_segment_ms = ms;
+    }
+    spdlog::debug("segmented frame {} of {} in {:.1f} ms", segmentation.frame_seq, segmentation.camera_id, ms);
+    if (options.delay.count() > 0) std::this_thread::sleep_for(options.delay);
+    out.clear();
+    if (Status s = wire::encodeSegmentation(segmentation, *out); !s) return fail(s.error());
+    if (Status s = segmentations.write(*out); !s) return fail(s.error());
+    std::lock_guard lock(mutex);
+    ++stats.published;
+  }
+
+  void fail(const std::string& message) {
+    spdlog::warn("segmenter: {}", message);
+    std::lock_guard lock(mutex);
+    ++stats.failed;
+  }
+
+  SegmentFunction function;
+  SegmenterOptions options;
+  dds::Topic<FrameMsg> frames_topic;
+  dds::Topic<SegmentationMsg> segmentations_topic;
+  dds::Reader<FrameMsg> frames;
+  dds::Writer<SegmentationMsg> segmentations;
+  dds::WaitSet waitset;
+  dds::ReadCondition frames_ready;
+  dds::GuardCondition wake;
+
+  mutable std::mutex mutex;
+  std::condition_variable slot_changed;
+  std::optional<dds::Sample<FrameMsg>> slot;
+  SegmenterStats stats;
+  std::atomic<bool> stopping{false};
+  std::thread receiver;
+  std::thread worker;
+};
+
+Segmenter::Segmenter(const dds::Participant& participant, SegmentFunction function, SegmenterOptions options)
+    : impl_(std::make_unique<Impl>(participant, std::move(function), std::move(options))) {
+  if (impl_->options.every < 1) impl_->options.every = 1;
+}
+
+Segmenter::~Segmenter() { stop(); }
+
+void Segmenter::start() {
+  if (impl_->receiver.joinable()) return;
+  impl_->stopping = false;
+  impl_->receiver = std::thread([this] { impl_->receive(); });
+  impl_->worker = std::thread([this] { impl_->work(); });
+}
+
+void Segmenter::stop() {
+  {
+    std::lock_guard lock(impl_->mutex);
+    impl_->stopping = true;
+  }
+  impl_->wake.trigger();
+  impl_->slot_changed.notify_all();
+  if (impl_->receiver.joinable()) impl_->receiver.join();
+  if (impl_->worker.joinable()) impl_->worker.join();
+}
+
+SegmenterStats Segmenter::stats() const {
+  std::lock_guard lock(impl_->mutex);
+  return impl_->stats;
+}
+
+bool Segmenter::waitForCamera(std::chrono::milliseconds timeout) const {
+  return impl_->frames.waitForWriters(1, DDS_MSECS(timeout.count()));
+}
+
+Status Segmenter::waitForAcknowledgements(std::chrono::milliseconds timeout) const {
+  return dds::toStatus(dds_wait_for_acks(impl_->segmentations.handle(), DDS_MSECS(timeout.count())),
+                       "wait for acknowledgements of the segmentations");
+}
+
+}  // namespace semfuse::client
