@@ -1,0 +1,53 @@
+#pragma once
+// Projective integration of depth (+ colour, + labels) into a LabeledVolume, parallel over leaves:
+//  1. allocate the leaves that the truncation band of the new depth map touches;
+//  2. update every voxel of those leaves by projecting it into the image: running weighted TSDF
+//     average clamped at max_weight, colour running average, and label evidence (Algorithm 1 of
+//     Cavallari & Di Stefano, PSIVT 2015) where a segmentation comes with the frame.
+// integrateLabels() applies a segmentation that arrives later with the depth and pose of its own
+// frame, leaving geometry untouched.
+//
+// Images: depth CV_32FC1 metres (0, NaN, or outside [min_depth, max_depth] = invalid);
+// colour CV_8UC3 RGB of the depth's size (optional: empty Mat); labels CV_16UC1 (0 = unlabeled)
+// and confidence CV_32FC1 of the labels' size, which may be smaller than the depth (nearest-
+// neighbour upsampled); an empty confidence counts every labeled pixel with confidence 1.
+// Every input is checked first; a bad one gives an error naming it and the volume is unchanged.
+#include <cstddef>
+
+#include <opencv2/core/mat.hpp>
+
+#include "semfuse/core/result.hpp"
+#include "semfuse/core/types.hpp"
+#include "semfuse/volume/labeled_volume.hpp"
+
+namespace semfuse::volume {
+
+struct IntegrationStats {
+  std::size_t valid_pixels = 0;       // depth pixels within range
+  std::size_t leaves_touched = 0;     // leaves in the truncation band of this frame
+  std::size_t leaves_allocated = 0;   // of which new
+  std::size_t voxels_updated = 0;     // voxels whose TSDF was updated
+  std::size_t voxels_labeled = 0;     // voxels where Algorithm 1 ran (label not 0/background)
+};
+
+Result<IntegrationStats> integrate(LabeledVolume& volume, const cv::Mat& depth, const cv::Mat& color,
+                                   const cv::Mat& labels, const cv::Mat& confidence,
+                                   const PinholeIntrinsics& intrinsics, const Pose& camera_to_world);
+
+// Depth (+ colour) only.
+inline Result<IntegrationStats> integrate(LabeledVolume& volume, const cv::Mat& depth, const cv::Mat& color,
+                                          const PinholeIntrinsics& intrinsics, const Pose& camera_to_world) {
+  return integrate(volume, depth, color, cv::Mat(), cv::Mat(), intrinsics, camera_to_world);
+}
+
+// A decoded frame (which must carry its camera_to_world pose), optionally with its segmentation.
+Result<IntegrationStats> integrate(LabeledVolume& volume, const Frame& frame,
+                                   const Segmentation* segmentation = nullptr);
+
+// Label evidence only, for a segmentation that arrives after its frame was integrated: the
+// voxels that frame saw near the surface, with that frame's depth and pose. Allocates nothing.
+Result<IntegrationStats> integrateLabels(LabeledVolume& volume, const cv::Mat& depth, const cv::Mat& labels,
+                                         const cv::Mat& confidence, const PinholeIntrinsics& intrinsics,
+                                         const Pose& camera_to_world);
+
+}  // namespace semfuse::volume

@@ -1,0 +1,86 @@
+#pragma once
+// LabeledVolume: the sparse labeled TSDF. Owns the packed geometry+label grid and the optional
+// colour grid (same topology), and knows the voxel <-> world mapping. Voxel (i,j,k) has its centre
+// at world (i,j,k) * voxel_size, OpenVDB's cell-centred linear transform.
+//
+// Integration, sampling and files are free functions / small classes over this type
+// (integrator.hpp, volume_sampler.hpp, map_file.hpp); this class only holds the state.
+// Not thread-safe for writes: one writer at a time, readers under the caller's shared lock.
+#include <cstddef>
+#include <cstdint>
+
+#include <Eigen/Core>
+#include <openvdb/openvdb.h>
+
+#include "semfuse/core/result.hpp"
+#include "semfuse/volume/volume_params.hpp"
+#include "semfuse/volume/voxel.hpp"
+
+namespace semfuse::volume {
+
+class LabeledVolume {
+ public:
+  // Leaves are 8^3 voxels: allocation, iteration and memory figures work in these blocks.
+  static constexpr int kLeafDim = GeometryGrid::TreeType::LeafNodeType::DIM;
+  static constexpr int kLeafVoxels = GeometryGrid::TreeType::LeafNodeType::SIZE;
+
+  // Checks params; the only way to get a volume from untrusted parameters.
+  static Result<LabeledVolume> create(const VolumeParams& params);
+  // For parameters known to be valid (defaults, tests): asserts validity in debug builds and
+  // sanitises nothing. Prefer create() for anything read from a file or the wire.
+  explicit LabeledVolume(const VolumeParams& params = {});
+
+  LabeledVolume(LabeledVolume&&) noexcept = default;
+  LabeledVolume& operator=(LabeledVolume&&) noexcept = default;
+  LabeledVolume(const LabeledVolume&) = delete;  // grids are large: copy explicitly with deepCopy()
+  LabeledVolume& operator=(const LabeledVolume&) = delete;
+  LabeledVolume deepCopy() const;
+
+  const VolumeParams& params() const { return params_; }
+  double voxelSize() const { return params_.voxel_size; }
+  bool hasColor() const { return params_.integrate_color; }
+
+  // Voxel <-> world. worldToIndex rounds to the nearest voxel centre.
+  openvdb::Coord worldToIndex(const Eigen::Vector3d& world) const;
+  Eigen::Vector3d worldToIndexContinuous(const Eigen::Vector3d& world) const { return world / voxelSize(); }
+  Eigen::Vector3d indexToWorld(const openvdb::Coord& ijk) const;
+
+  // Single-voxel lookups (convenience; use VolumeSampler in loops, it caches tree paths).
+  VoxelValue voxel(const openvdb::Coord& ijk) const { return unpackVoxel(packedVoxel(ijk)); }
+  VoxelValue voxelAt(const Eigen::Vector3d& world) const { return voxel(worldToIndex(world)); }
+  PackedVoxel packedVoxel(const openvdb::Coord& ijk) const { return geometry_->tree().getValue(ijk); }
+  // Colour of a voxel; black where there is no colour grid or the voxel was never coloured.
+  Rgb8 color(const openvdb::Coord& ijk) const;
+  Rgb8 colorAt(const Eigen::Vector3d& world) const { return color(worldToIndex(world)); }
+
+  // Size figures. Allocated voxels are all voxels of allocated leaves (what memory is spent on);
+  // observed voxels are those with weight > 0 (the grid's active voxels).
+  std::size_t allocatedLeaves() const { return geometry_->tree().leafCount(); }
+  std::size_t allocatedVoxels() const { return allocatedLeaves() * kLeafVoxels; }
+  std::size_t observedVoxels() const { return geometry_->tree().activeVoxelCount(); }
+  std::size_t geometryMemoryBytes() const { return geometry_->memUsage(); }
+  std::size_t colorMemoryBytes() const { return color_ ? color_->memUsage() : 0; }
+  std::size_t memoryBytes() const { return geometryMemoryBytes() + colorMemoryBytes(); }
+
+  void clear();
+  uint64_t framesIntegrated() const { return frames_integrated_; }
+  void setFramesIntegrated(uint64_t frames) { frames_integrated_ = frames; }
+
+  // The grids, for render/tracking/mesh code that iterates leaves or builds its own accessors.
+  // colorGrid() is null when the volume has no colour.
+  const GeometryGrid& geometryGrid() const { return *geometry_; }
+  GeometryGrid::ConstPtr geometryGridPtr() const { return geometry_; }
+  const ColorGrid* colorGrid() const { return color_.get(); }
+  ColorGrid::ConstPtr colorGridPtr() const { return color_; }
+  // Mutable access for the integrator and the map loader; keep the two topologies identical.
+  GeometryGrid& mutableGeometryGrid() { return *geometry_; }
+  ColorGrid* mutableColorGrid() { return color_.get(); }
+
+ private:
+  VolumeParams params_;
+  GeometryGrid::Ptr geometry_;
+  ColorGrid::Ptr color_;
+  uint64_t frames_integrated_ = 0;
+};
+
+}  // namespace semfuse::volume

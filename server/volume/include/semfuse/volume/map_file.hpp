@@ -1,0 +1,39 @@
+#pragma once
+// Map files: one .vdb holding
+//   tsdf   FloatGrid, level-set class (viewable in Blender/Houdini), metres, active = observed
+//   weight FloatGrid, score FloatGrid (both saved as half floats, their exact in-memory precision)
+//   label  Int32Grid
+//   color  Int32Grid 0x00RRGGBB (only when the volume has colour)
+// all with the same topology, plus file metadata: format version, voxel size, truncation and the
+// other VolumeParams, the label legend, frames integrated, a checksum of the packed voxels, and
+// the caller's extra key/value strings.
+// Save is atomic (temporary file in the same folder, fsync, rename, fsync of the folder).
+// Load reads into a new volume: a corrupt or truncated file gives an error and touches nothing.
+// save -> load reproduces the packed voxels bit for bit.
+#include <filesystem>
+#include <map>
+#include <string>
+
+#include "semfuse/core/legend.hpp"
+#include "semfuse/core/result.hpp"
+#include "semfuse/volume/labeled_volume.hpp"
+
+namespace semfuse::volume {
+
+inline constexpr int kMapFormatVersion = 1;
+
+using MapExtraMetadata = std::map<std::string, std::string>;
+
+struct LoadedMap {
+  LabeledVolume volume;
+  LabelLegend legend;
+  MapExtraMetadata extra;
+  int format_version = 0;
+};
+
+Status saveMap(const LabeledVolume& volume, const LabelLegend& legend, const std::filesystem::path& path,
+               const MapExtraMetadata& extra = {});
+
+Result<LoadedMap> loadMap(const std::filesystem::path& path);
+
+}  // namespace semfuse::volume

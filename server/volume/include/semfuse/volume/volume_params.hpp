@@ -1,0 +1,38 @@
+#pragma once
+// Parameters of a labeled volume. A plain struct so that config files, the server and tests can
+// fill it directly; validate() says precisely what is wrong before a volume is built from it.
+#include <vector>
+
+#include "semfuse/core/legend.hpp"
+#include "semfuse/core/result.hpp"
+
+namespace semfuse::volume {
+
+struct VolumeParams {
+  double voxel_size = 0.01;  // metres, edge of one voxel
+  double truncation = 0.04;  // metres; the TSDF is clamped to [-truncation, +truncation]
+
+  // Integration weights are stored as half floats, which hold every integer up to 2048 exactly,
+  // so the running average stays exact up to that clamp.
+  float max_weight = 64.0f;
+
+  // W_clamp of Algorithm 1: the most evidence a voxel's label can accumulate. With confidences
+  // around 0.5-1 a label saturates after ~16-32 agreeing frames (about one second at 30 Hz), and a
+  // saturated but wrong label is overturned by about as long a run of contrary evidence. A much
+  // larger clamp makes early mistakes permanent; a smaller one lets single noisy frames flip labels.
+  // 16 also keeps the half-float score's resolution (1/128 near the clamp) below typical increments.
+  float max_label_score = 16.0f;
+
+  float min_depth = 0.1f;  // metres; depth outside [min_depth, max_depth] is ignored
+  float max_depth = 5.0f;
+
+  // Labels that never change a voxel (as label 0 = unlabeled never does), e.g. "other" classes.
+  std::vector<LabelId> background_labels;
+
+  bool integrate_color = true;  // keep a colour grid (4 bytes per voxel extra)
+
+  Status validate() const;
+  bool isBackground(LabelId label) const;
+};
+
+}  // namespace semfuse::volume

@@ -1,0 +1,103 @@
+#include "frame_view.hpp"
+
+#include <cmath>
+#include <string>
+
+#include <opencv2/core.hpp>
+
+namespace semfuse::volume::detail {
+namespace {
+
+std::string sizeOf(const cv::Mat& m) { return std::to_string(m.cols) + "x" + std::to_string(m.rows); }
+
+Status checkIntrinsics(const PinholeIntrinsics& k) {
+  if (k.width <= 0 || k.height <= 0)
+    return makeError("intrinsics: image size must be positive, got " + std::to_string(k.width) + "x" +
+                     std::to_string(k.height));
+  if (!std::isfinite(k.fx) || !std::isfinite(k.fy) || k.fx <= 0 || k.fy <= 0)
+    return makeError("intrinsics: focal lengths must be finite and positive, got fx=" + std::to_string(k.fx) +
+                     " fy=" + std::to_string(k.fy));
+  if (!std::isfinite(k.cx) || !std::isfinite(k.cy))
+    return makeError("intrinsics: principal point must be finite");
+  return Status::Ok();
+}
+
+Status checkPose(const Pose& pose) {
+  const Eigen::Matrix4d& m = pose.matrix();
+  if (!m.allFinite()) return makeError("pose: camera_to_world has non-finite entries");
+  if (!m.row(3).isApprox(Eigen::RowVector4d(0, 0, 0, 1), 1e-9))
+    return makeError("pose: camera_to_world bottom row must be [0 0 0 1]");
+  const Eigen::Matrix3d r = m.topLeftCorner<3, 3>();
+  const double orthogonality = (r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+  if (orthogonality > 1e-4 || r.determinant() <= 0)
+    return makeError("pose: camera_to_world rotation is not a proper rotation (|R^T R - I| = " +
+                     std::to_string(orthogonality) + ", det = " + std::to_string(r.determinant()) + ")");
+  return Status::Ok();
+}
+
+}  // namespace
+
+Result<FrameView> makeFrameView(const VolumeParams& params, const cv::Mat& depth, const cv::Mat& color,
+                                const cv::Mat& labels, const cv::Mat& confidence,
+                                const PinholeIntrinsics& intrinsics, const Pose& camera_to_world) {
+  if (Status s = checkIntrinsics(intrinsics); !s) return makeError(s.error());
+  if (Status s = checkPose(camera_to_world); !s) return makeError(s.error());
+  if (depth.empty()) return makeError("depth: image is empty");
+  if (depth.type() != CV_32FC1) return makeError("depth: expected CV_32FC1 (metres), got type " + std::to_string(depth.type()));
+  if (depth.cols != intrinsics.width || depth.rows != intrinsics.height)
+    return makeError("depth: size " + sizeOf(depth) + " differs from the intrinsics' " +
+                     std::to_string(intrinsics.width) + "x" + std::to_string(intrinsics.height));
+  if (!color.empty()) {
+    if (color.type() != CV_8UC3) return makeError("color: expected CV_8UC3 (RGB), got type " + std::to_string(color.type()));
+    if (color.size() != depth.size())
+      return makeError("color: size " + sizeOf(color) + " differs from the depth's " + sizeOf(depth));
+  }
+  if (labels.empty() && !confidence.empty()) return makeError("confidence given without labels");
+  if (!labels.empty()) {
+    if (labels.type() != CV_16UC1) return makeError("labels: expected CV_16UC1, got type " + std::to_string(labels.type()));
+    if (labels.cols > depth.cols || labels.rows > depth.rows)
+      return makeError("labels: size " + sizeOf(labels) + " is larger than the depth's " + sizeOf(depth));
+    if (!confidence.empty()) {
+      if (confidence.type() != CV_32FC1)
+        return makeError("confidence: expected CV_32FC1, got type " + std::to_string(confidence.type()));
+      if (confidence.size() != labels.size())
+        return makeError("confidence: size " + sizeOf(confidence) + " differs from the labels' " + sizeOf(labels));
+    }
+  }
+
+  FrameView view;
+  view.width = depth.cols;
+  view.height = depth.rows;
+  view.fx = static_cast<float>(intrinsics.fx);
+  view.fy = static_cast<float>(intrinsics.fy);
+  view.cx = static_cast<float>(intrinsics.cx);
+  view.cy = static_cast<float>(intrinsics.cy);
+  const Pose world_to_camera = camera_to_world.inverse(Eigen::Isometry);
+  view.world_to_camera_rotation = world_to_camera.linear().cast<float>();
+  view.world_to_camera_translation = world_to_camera.translation().cast<float>();
+  view.camera_to_world_rotation = camera_to_world.linear().cast<float>();
+  view.camera_to_world_translation = camera_to_world.translation().cast<float>();
+  view.min_depth = params.min_depth;
+  view.max_depth = params.max_depth;
+  view.depth = depth.ptr<float>();
+  view.depth_stride = depth.step1();
+  if (!color.empty()) {
+    view.color = color.ptr<uint8_t>();
+    view.color_stride = color.step1();
+  }
+  if (!labels.empty()) {
+    view.labels = labels.ptr<uint16_t>();
+    view.label_stride = labels.step1();
+    if (!confidence.empty()) {
+      view.confidence = confidence.ptr<float>();
+      view.confidence_stride = confidence.step1();
+    }
+    view.label_col.resize(static_cast<std::size_t>(depth.cols));
+    view.label_row.resize(static_cast<std::size_t>(depth.rows));
+    for (int u = 0; u < depth.cols; ++u) view.label_col[u] = static_cast<int>(int64_t{u} * labels.cols / depth.cols);
+    for (int v = 0; v < depth.rows; ++v) view.label_row[v] = static_cast<int>(int64_t{v} * labels.rows / depth.rows);
+  }
+  return view;
+}
+
+}  // namespace semfuse::volume::detail

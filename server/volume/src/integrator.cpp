@@ -1,0 +1,246 @@
+#include "semfuse/volume/integrator.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <bitset>
+#include <cmath>
+#include <memory>
+#include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "band_leaves.hpp"
+#include "frame_view.hpp"
+#include "semfuse/volume/label_fusion.hpp"
+
+namespace semfuse::volume {
+namespace {
+using detail::FrameView;
+using GeometryLeaf = GeometryGrid::TreeType::LeafNodeType;
+using ColorLeaf = ColorGrid::TreeType::LeafNodeType;
+constexpr int kLeafDim = static_cast<int>(GeometryLeaf::DIM);
+
+// One leaf to update: its geometry and (when the volume has colour) its colour twin.
+struct LeafPair {
+  GeometryLeaf* geometry;
+  ColorLeaf* color;
+};
+
+// Labels that never change a voxel: 0 and the background set. A bitset makes the per-voxel test
+// one load instead of a search.
+using IgnoredLabels = std::bitset<65536>;
+
+std::unique_ptr<IgnoredLabels> ignoredLabels(const VolumeParams& params) {
+  auto ignored = std::make_unique<IgnoredLabels>();
+  ignored->set(kUnlabeled);
+  for (LabelId id : params.background_labels) ignored->set(id);
+  return ignored;
+}
+
+struct KernelConfig {
+  float voxel_size;
+  float truncation;
+  float max_weight;
+  float max_score;
+  const IgnoredLabels* ignored;
+};
+
+struct KernelCounts {
+  std::size_t updated = 0;
+  std::size_t labeled = 0;
+};
+
+// Updates the 512 voxels of one leaf from one frame. Voxel camera coordinates are stepped
+// incrementally (three additions per voxel), and each voxel reads the depth pixel it projects to
+// (nearest pixel). kGeometry: TSDF/weight/colour update; kLabels: Algorithm 1. With only kLabels
+// (late segmentation), voxels never observed are left alone.
+template <bool kGeometry, bool kColor, bool kLabels>
+KernelCounts updateLeaf(const LeafPair& leaf, const FrameView& frame, const KernelConfig& config) {
+  KernelCounts counts;
+  PackedVoxel* voxels = leaf.geometry->buffer().data();
+  PackedColor* colors = kColor ? leaf.color->buffer().data() : nullptr;
+  const openvdb::Coord origin = leaf.geometry->origin();
+  const Eigen::Matrix3f& rotation = frame.world_to_camera_rotation;
+  const Eigen::Vector3f corner =
+      rotation * (Eigen::Vector3f(origin.x(), origin.y(), origin.z()) * config.voxel_size) +
+      frame.world_to_camera_translation;
+  const Eigen::Vector3f step_x = rotation.col(0) * config.voxel_size;
+  const Eigen::Vector3f step_y = rotation.col(1) * config.voxel_size;
+  const Eigen::Vector3f step_z = rotation.col(2) * config.voxel_size;
+  const float u_max = static_cast<float>(frame.width) - 0.5f;
+  const float v_max = static_cast<float>(frame.height) - 0.5f;
+
+  for (int x = 0; x < kLeafDim; ++x) {
+    for (int y = 0; y < kLeafDim; ++y) {
+      Eigen::Vector3f p = corner + step_x * static_cast<float>(x) + step_y * static_cast<float>(y);
+      const int row_offset = (x << 6) | (y << 3);  // OpenVDB leaf order: z fastest
+      for (int z = 0; z < kLeafDim; ++z, p += step_z) {
+        if (p.z() <= 0.0f) continue;
+        const float inv_z = 1.0f / p.z();
+        const float u = frame.fx * p.x() * inv_z + frame.cx;
+        const float v = frame.fy * p.y() * inv_z + frame.cy;
+        if (!(u >= -0.5f && u < u_max && v >= -0.5f && v < v_max)) continue;
+        const int ui = static_cast<int>(u + 0.5f);
+        const int vi = static_cast<int>(v + 0.5f);
+        const float d = frame.depth[static_cast<std::size_t>(vi) * frame.depth_stride + ui];
+        if (!frame.validDepth(d)) continue;
+        const float sdf = d - p.z();
+        if (sdf < -config.truncation) continue;  // far behind the surface: occluded, unknown
+
+        const int offset = row_offset | z;
+        PackedVoxel packed = voxels[offset];
+        float tsdf = unpackTsdf(packed);
+        float weight = unpackWeight(packed);
+        LabelId label = unpackLabel(packed);
+        float score = unpackScore(packed);
+        if (kGeometry) {
+          const float observed = std::min(sdf, config.truncation);
+          const float new_weight = weight + 1.0f;
+          tsdf = (tsdf * weight + observed) / new_weight;
+          if (kColor) {
+            const uint8_t* rgb = frame.color + static_cast<std::size_t>(vi) * frame.color_stride + 3 * ui;
+            const Rgb8 old = unpackColor(colors[offset]);
+            auto blend = [&](uint8_t a, uint8_t b) {
+              return static_cast<uint8_t>((a * weight + b) / new_weight + 0.5f);
+            };
+            colors[offset] = packColor({blend(old.r, rgb[0]), blend(old.g, rgb[1]), blend(old.b, rgb[2])});
+          }
+          weight = std::min(new_weight, config.max_weight);
+          ++counts.updated;
+        } else if (weight <= 0.0f) {
+          continue;  // late labels only refine voxels that geometry has seen
+        }
+        if (kLabels && sdf < config.truncation) {  // |d - z| < truncation: the frame sees this voxel
+          const int lu = frame.label_col[ui];
+          const int lv = frame.label_row[vi];
+          const LabelId observed = frame.labels[static_cast<std::size_t>(lv) * frame.label_stride + lu];
+          const float w = frame.confidence
+                              ? frame.confidence[static_cast<std::size_t>(lv) * frame.confidence_stride + lu]
+                              : 1.0f;
+          if (!(*config.ignored)[observed] && w > 0.0f && std::isfinite(w)) {
+            fuseLabelEvidence(label, score, observed, w, config.max_score);
+            ++counts.labeled;
+          }
+        }
+        voxels[offset] = packVoxel(tsdf, weight, label, score);
+        leaf.geometry->setValueOn(static_cast<openvdb::Index>(offset));
+      }
+    }
+  }
+  return counts;
+}
+
+template <bool kGeometry, bool kColor, bool kLabels>
+void updateLeaves(const std::vector<LeafPair>& leaves, const FrameView& frame, const KernelConfig& config,
+                  IntegrationStats& stats) {
+  std::atomic<std::size_t> updated{0}, labeled{0};
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 16),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      KernelCounts local;
+                      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                        const KernelCounts c = updateLeaf<kGeometry, kColor, kLabels>(leaves[i], frame, config);
+                        local.updated += c.updated;
+                        local.labeled += c.labeled;
+                      }
+                      updated += local.updated;
+                      labeled += local.labeled;
+                    });
+  stats.voxels_updated = updated;
+  stats.voxels_labeled = labeled;
+}
+
+std::size_t countValidPixels(const FrameView& frame) {
+  std::size_t n = 0;
+  for (int v = 0; v < frame.height; ++v) {
+    const float* row = frame.depth + static_cast<std::size_t>(v) * frame.depth_stride;
+    for (int u = 0; u < frame.width; ++u) n += frame.validDepth(row[u]) ? 1 : 0;
+  }
+  return n;
+}
+
+KernelConfig kernelConfig(const VolumeParams& params, const IgnoredLabels* ignored) {
+  return {static_cast<float>(params.voxel_size), static_cast<float>(params.truncation), params.max_weight,
+          params.max_label_score, ignored};
+}
+
+}  // namespace
+
+Result<IntegrationStats> integrate(LabeledVolume& volume, const cv::Mat& depth, const cv::Mat& color,
+                                   const cv::Mat& labels, const cv::Mat& confidence,
+                                   const PinholeIntrinsics& intrinsics, const Pose& camera_to_world) {
+  const VolumeParams& params = volume.params();
+  auto view = detail::makeFrameView(params, depth, color, labels, confidence, intrinsics, camera_to_world);
+  if (!view) return makeError(view.error());
+  const FrameView& frame = view.value();
+
+  IntegrationStats stats;
+  stats.valid_pixels = countValidPixels(frame);
+  const std::vector<openvdb::Coord> origins =
+      detail::bandLeafOrigins(frame, params.voxel_size, params.truncation);
+  stats.leaves_touched = origins.size();
+
+  // Allocation is serial: a few thousand leaves per frame, and OpenVDB trees are not safe to grow
+  // concurrently. Colour leaves are created alongside so that both grids share one topology.
+  std::vector<LeafPair> leaves;
+  leaves.reserve(origins.size());
+  auto geometry = volume.mutableGeometryGrid().getAccessor();
+  ColorGrid* color_grid = volume.mutableColorGrid();
+  std::unique_ptr<ColorGrid::Accessor> colors;
+  if (color_grid) colors = std::make_unique<ColorGrid::Accessor>(color_grid->getAccessor());
+  for (const openvdb::Coord& origin : origins) {
+    GeometryLeaf* leaf = geometry.probeLeaf(origin);
+    if (!leaf) {
+      leaf = geometry.touchLeaf(origin);
+      ++stats.leaves_allocated;
+    }
+    leaves.push_back({leaf, colors ? colors->touchLeaf(origin) : nullptr});
+  }
+
+  const std::unique_ptr<IgnoredLabels> ignored = ignoredLabels(params);
+  const KernelConfig config = kernelConfig(params, ignored.get());
+  const bool with_color = color_grid && frame.color;
+  const bool with_labels = frame.labels != nullptr;
+  if (with_color && with_labels) updateLeaves<true, true, true>(leaves, frame, config, stats);
+  else if (with_color) updateLeaves<true, true, false>(leaves, frame, config, stats);
+  else if (with_labels) updateLeaves<true, false, true>(leaves, frame, config, stats);
+  else updateLeaves<true, false, false>(leaves, frame, config, stats);
+
+  volume.setFramesIntegrated(volume.framesIntegrated() + 1);
+  return stats;
+}
+
+Result<IntegrationStats> integrate(LabeledVolume& volume, const Frame& frame, const Segmentation* segmentation) {
+  if (!frame.camera_to_world) return makeError("frame " + std::to_string(frame.seq) + " carries no camera_to_world pose");
+  if (segmentation)
+    return integrate(volume, frame.depth, frame.color, segmentation->labels, segmentation->confidence,
+                     frame.intrinsics, *frame.camera_to_world);
+  return integrate(volume, frame.depth, frame.color, cv::Mat(), cv::Mat(), frame.intrinsics, *frame.camera_to_world);
+}
+
+Result<IntegrationStats> integrateLabels(LabeledVolume& volume, const cv::Mat& depth, const cv::Mat& labels,
+                                         const cv::Mat& confidence, const PinholeIntrinsics& intrinsics,
+                                         const Pose& camera_to_world) {
+  if (labels.empty()) return makeError("labels: image is empty");
+  const VolumeParams& params = volume.params();
+  auto view = detail::makeFrameView(params, depth, cv::Mat(), labels, confidence, intrinsics, camera_to_world);
+  if (!view) return makeError(view.error());
+  const FrameView& frame = view.value();
+
+  IntegrationStats stats;
+  stats.valid_pixels = countValidPixels(frame);
+  const std::vector<openvdb::Coord> origins =
+      detail::bandLeafOrigins(frame, params.voxel_size, params.truncation);
+  stats.leaves_touched = origins.size();
+  std::vector<LeafPair> leaves;
+  leaves.reserve(origins.size());
+  auto geometry = volume.mutableGeometryGrid().getAccessor();
+  for (const openvdb::Coord& origin : origins)
+    if (GeometryLeaf* leaf = geometry.probeLeaf(origin)) leaves.push_back({leaf, nullptr});
+
+  const std::unique_ptr<IgnoredLabels> ignored = ignoredLabels(params);
+  updateLeaves<false, false, true>(leaves, frame, kernelConfig(params, ignored.get()), stats);
+  return stats;
+}
+
+}  // namespace semfuse::volume

@@ -1,0 +1,60 @@
+#include "semfuse/volume/labeled_volume.hpp"
+
+#include <cassert>
+#include <cmath>
+
+namespace semfuse::volume {
+namespace {
+openvdb::math::Transform::Ptr voxelTransform(double voxel_size) {
+  return openvdb::math::Transform::createLinearTransform(voxel_size);
+}
+}  // namespace
+
+Result<LabeledVolume> LabeledVolume::create(const VolumeParams& params) {
+  if (Status status = params.validate(); !status) return makeError("invalid volume parameters: " + status.error());
+  return LabeledVolume(params);
+}
+
+LabeledVolume::LabeledVolume(const VolumeParams& params) : params_(params) {
+  assert(params_.validate().ok());
+  openvdb::initialize();  // idempotent; registers grid types for I/O
+  geometry_ = GeometryGrid::create(kUnobservedVoxel);
+  geometry_->setTransform(voxelTransform(params_.voxel_size));
+  geometry_->setName("semfuse_geometry");
+  if (params_.integrate_color) {
+    color_ = ColorGrid::create(0);
+    color_->setTransform(voxelTransform(params_.voxel_size));
+    color_->setName("color");
+  }
+}
+
+LabeledVolume LabeledVolume::deepCopy() const {
+  LabeledVolume copy(params_);
+  copy.geometry_ = geometry_->deepCopy();
+  if (color_) copy.color_ = color_->deepCopy();
+  copy.frames_integrated_ = frames_integrated_;
+  return copy;
+}
+
+openvdb::Coord LabeledVolume::worldToIndex(const Eigen::Vector3d& world) const {
+  const Eigen::Vector3d index = world / voxelSize();
+  return {static_cast<int>(std::floor(index.x() + 0.5)), static_cast<int>(std::floor(index.y() + 0.5)),
+          static_cast<int>(std::floor(index.z() + 0.5))};
+}
+
+Eigen::Vector3d LabeledVolume::indexToWorld(const openvdb::Coord& ijk) const {
+  return Eigen::Vector3d(ijk.x(), ijk.y(), ijk.z()) * voxelSize();
+}
+
+Rgb8 LabeledVolume::color(const openvdb::Coord& ijk) const {
+  if (!color_) return {};
+  return unpackColor(color_->tree().getValue(ijk));
+}
+
+void LabeledVolume::clear() {
+  geometry_->clear();
+  if (color_) color_->clear();
+  frames_integrated_ = 0;
+}
+
+}  // namespace semfuse::volume
