@@ -1,0 +1,47 @@
+#pragma once
+// Named QoS profiles of DESIGN.md section 2. Readers and writers of one topic use the same
+// profile so that their reliability, durability and history always match.
+#include <dds/dds.h>
+
+namespace semfuse::dds {
+
+// Owning, copyable handle on a dds_qos_t.
+class Qos {
+ public:
+  Qos();
+  ~Qos();
+  Qos(const Qos& other);
+  Qos& operator=(const Qos& other);
+  Qos(Qos&& other) noexcept;
+  Qos& operator=(Qos&& other) noexcept;
+
+  const dds_qos_t* get() const { return qos_; }
+  dds_qos_t* get() { return qos_; }
+
+  Qos& reliable(dds_duration_t max_blocking_time);
+  Qos& bestEffort();
+  Qos& keepLast(int depth);
+  Qos& keepAll();
+  Qos& transientLocal();
+  Qos& volatileDurability();
+
+ private:
+  dds_qos_t* qos_;
+};
+
+namespace qos {
+
+// How long a reliable write may block waiting for acknowledgements before it fails with a
+// timeout. Cyclone's 100 ms default is too short for a 1.2 MB frame on a loaded host.
+inline constexpr dds_duration_t kMaxBlockingTime = DDS_SECS(2);
+
+Qos frames();         // reliable, keep-last 2, volatile: a late frame is worth less than a new one
+Qos segmentations();  // reliable, keep-last 8: segmenters run behind the camera
+Qos poses();          // reliable, keep-last 10
+Qos status();         // reliable, transient-local, keep-last 1: late joiners get the latest
+Qos legend();         // reliable, transient-local, keep-last 1
+Qos service();        // reliable, keep-last 10, volatile: rmw's default for services
+Qos sensorData();     // best-effort, keep-last 5, volatile: ROS 2 sensor-data profile
+
+}  // namespace qos
+}  // namespace semfuse::dds

@@ -1,0 +1,33 @@
+#pragma once
+// Topic names of the wire contract (DESIGN.md section 2), in ROS 2's DDS naming: message
+// topics are "rt/<ros name>", a service /x/y is the pair "rq/x/yRequest" and "rr/x/yReply".
+#include <string>
+#include <string_view>
+
+namespace semfuse::dds::topics {
+
+inline constexpr const char* kFrames = "rt/semfuse/frames";
+inline constexpr const char* kSegmentations = "rt/semfuse/segmentations";
+inline constexpr const char* kPoses = "rt/semfuse/poses";
+inline constexpr const char* kStatus = "rt/semfuse/status";
+inline constexpr const char* kLabels = "rt/semfuse/labels";
+
+struct ServiceTopics {
+  std::string request;
+  std::string reply;
+};
+
+// The topic pair of ROS 2 service "/<ns>/<name>"; ns may be empty.
+inline ServiceTopics service(std::string_view name, std::string_view ns = "semfuse") {
+  std::string base = ns.empty() ? std::string(name) : std::string(ns) + "/" + std::string(name);
+  return {"rq/" + base + "Request", "rr/" + base + "Reply"};
+}
+
+inline ServiceTopics raycast() { return service("raycast"); }
+inline ServiceTopics labelsAt() { return service("labels_at"); }
+inline ServiceTopics region() { return service("region"); }
+inline ServiceTopics objects() { return service("objects"); }
+inline ServiceTopics mesh() { return service("mesh"); }
+inline ServiceTopics admin() { return service("admin"); }
+
+}  // namespace semfuse::dds::topics
