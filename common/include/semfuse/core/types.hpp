@@ -62,4 +62,28 @@ struct Segmentation {
   cv::Mat confidence;
 };
 
+// What the server did with a frame's pose (values as TrackedPose_Constants on the wire).
+enum class PoseState : uint8_t {
+  kGiven = 0,    // integrated at the pose the frame carried
+  kTracked = 1,  // estimated by SDF alignment
+  kRefined = 2,  // given pose refined by SDF alignment
+  kLost = 3,     // alignment failed: frame not integrated
+};
+
+// The pose the server used for one frame, and how it got it.
+struct TrackedPose {
+  std::string camera_id;
+  uint64_t seq = 0;
+  Stamp stamp;
+  std::string frame_id;
+  PoseState state = PoseState::kGiven;
+  bool integrated = false;
+  Pose camera_to_world = Pose::Identity();
+  float inlier_ratio = 0.0f;
+  float residual = 0.0f;
+  uint32_t iterations = 0;
+  float track_ms = 0.0f;
+  float integrate_ms = 0.0f;
+};
+
 }  // namespace semfuse

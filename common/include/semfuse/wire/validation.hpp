@@ -1,0 +1,64 @@
+#pragma once
+// Checks that turn a malformed message into a precise error. Each names the field (`what`,
+// e.g. "depth") and the measured numbers, so a rejected sample in the server's status says
+// exactly what the sender got wrong.
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <opencv2/core/mat.hpp>
+
+#include "semfuse/core/legend.hpp"
+#include "semfuse/core/result.hpp"
+#include "semfuse/core/types.hpp"
+
+namespace semfuse::wire {
+
+// Largest accepted image side: bounds every allocation a message can cause.
+inline constexpr uint32_t kMaxImageSide = 8192;
+// Largest accepted |R^T R - I| (Frobenius). Real data needs slack: the 7-Scenes reference poses
+// are stored with errors up to ~2e-4.
+inline constexpr double kRotationTolerance = 1e-3;
+
+// "depth: image size 0x480 is empty" / "depth: image size 9000x480 exceeds the 8192-pixel limit".
+Status validateImageSize(const std::string& what, int64_t width, int64_t height, uint32_t max_side = kMaxImageSide);
+
+// A generated sequence whose _length exceeds _maximum or has no buffer (a truncated sample).
+Status validateSequence(const std::string& what, uint32_t length, uint32_t maximum, const void* buffer);
+
+// "depth: 614399 bytes for 640x480 16UC1, expected 614400".
+Status validateDataSize(const std::string& what, std::size_t bytes, uint32_t width, uint32_t height,
+                        const std::string& encoding, std::size_t bytes_per_pixel);
+
+// "depth: unknown encoding 'rgb16' (known: 16UC1, 32FC1, png16)".
+Status validateEncoding(const std::string& what, const std::string& encoding, const std::vector<std::string>& known);
+
+// fx, fy finite and > 0, cx, cy finite, and the image size within bounds.
+Status validateIntrinsics(const PinholeIntrinsics& intrinsics, uint32_t max_side = kMaxImageSide);
+
+// Finite, rotation orthonormal within `tolerance` (reports the measured error) and not a reflection.
+Status validatePose(const Pose& pose, double tolerance = kRotationTolerance);
+
+// A compressed payload after cv::imdecode: empty = failed to decode; else size and type must match.
+// `format` is "PNG" or "JPEG" for the message; expected_type e.g. CV_16UC1.
+Status validateDecodedImage(const std::string& what, const std::string& format, const cv::Mat& decoded,
+                            uint32_t width, uint32_t height, int expected_type);
+
+// The size a PNG declares in its header (checked before decoding, so that a small payload cannot
+// make the decoder allocate a huge image). Error when the bytes are not a PNG.
+Result<cv::Size> pngDeclaredSize(const uint8_t* data, std::size_t size);
+
+// A segmentation may be smaller than its frame, never larger.
+Status validateSegmentationSize(uint32_t seg_width, uint32_t seg_height, uint32_t frame_width, uint32_t frame_height);
+
+// CV_32FC1 confidences within [0, 1]; NaN is out of range too.
+Status validateConfidence(const cv::Mat& confidence);
+
+// Every label id (CV_16UC1) is in the legend: reports the first bad id, where, and how many pixels.
+Status validateLabels(const cv::Mat& labels, const LabelLegend& legend);
+
+// "16UC1", "8UC3", ... (OpenCV's type names without the "CV_").
+std::string typeName(int cv_type);
+
+}  // namespace semfuse::wire

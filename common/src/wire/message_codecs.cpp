@@ -1,0 +1,187 @@
+#include "semfuse/wire/message_codecs.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include <opencv2/core.hpp>
+
+#include "semfuse/core/legend_io.hpp"
+#include "semfuse/wire/frame_codec.hpp"
+#include "semfuse/wire/validation.hpp"
+
+namespace semfuse::wire {
+
+const std::vector<std::string>& confidenceEncodings() {
+  static const std::vector<std::string> names = {"", "8UC1", "32FC1"};
+  return names;
+}
+
+Result<EncodedSegmentation> encodeSegmentation(const Segmentation& segmentation,
+                                               const std::string& confidence_encoding) {
+  const cv::Mat& labels = segmentation.labels;
+  if (labels.type() != CV_16UC1) return makeError("encodeSegmentation: labels must be CV_16UC1, got " + typeName(labels.type()));
+  if (Status s = validateImageSize("segmentation", labels.cols, labels.rows); !s) return makeError(s.error());
+  const bool has_confidence = !segmentation.confidence.empty();
+  const std::string encoding = has_confidence ? confidence_encoding : "";
+  if (Status s = validateEncoding("confidence", encoding, confidenceEncodings()); !s) return makeError(s.error());
+  if (has_confidence) {
+    if (segmentation.confidence.size() != labels.size()) {
+      return makeError("encodeSegmentation: confidence size differs from the labels'");
+    }
+    if (Status s = validateConfidence(segmentation.confidence); !s) return makeError(s.error());
+  }
+
+  EncodedSegmentation encoded;
+  auto& msg = encoded.msg();
+  msg.header.stamp.sec = segmentation.stamp.sec;
+  msg.header.stamp.nanosec = segmentation.stamp.nanosec;
+  msg.header.frame_id = encoded.keepString("");
+  msg.camera_id = encoded.keepString(segmentation.camera_id);
+  msg.frame_seq = segmentation.frame_seq;
+  msg.segmenter_id = encoded.keepString(segmentation.segmenter_id);
+  msg.width = static_cast<uint32_t>(labels.cols);
+  msg.height = static_cast<uint32_t>(labels.rows);
+  const cv::Mat continuous = labels.isContinuous() ? labels : labels.clone();
+  encoded.keepSequence(msg.labels, std::vector<uint16_t>(continuous.ptr<uint16_t>(),
+                                                         continuous.ptr<uint16_t>() + continuous.total()));
+  msg.confidence_encoding = encoded.keepString(encoding);
+  std::vector<uint8_t> confidence;
+  if (encoding == "8UC1") {
+    cv::Mat bytes;
+    segmentation.confidence.convertTo(bytes, CV_8U, 255.0);  // rounds and saturates
+    confidence.assign(bytes.ptr<uint8_t>(), bytes.ptr<uint8_t>() + bytes.total());
+  } else if (encoding == "32FC1") {
+    const cv::Mat floats = segmentation.confidence.isContinuous() ? segmentation.confidence : segmentation.confidence.clone();
+    confidence.assign(floats.ptr<uint8_t>(), floats.ptr<uint8_t>() + floats.total() * sizeof(float));
+  }
+  encoded.keepSequence(msg.confidence, std::move(confidence));
+  return encoded;
+}
+
+Result<Segmentation> decodeSegmentation(const semfuse_msg_dds__Segmentation_& msg) {
+  Segmentation segmentation;
+  segmentation.camera_id = stringOf(msg.camera_id);
+  if (segmentation.camera_id.empty()) return makeError("segmentation: empty camera_id");
+  segmentation.frame_seq = msg.frame_seq;
+  segmentation.segmenter_id = stringOf(msg.segmenter_id);
+  segmentation.stamp = {msg.header.stamp.sec, msg.header.stamp.nanosec};
+  if (Status s = validateImageSize("segmentation", msg.width, msg.height); !s) return makeError(s.error());
+  const int w = static_cast<int>(msg.width), h = static_cast<int>(msg.height);
+
+  if (Status s = validateSequence("labels", msg.labels._length, msg.labels._maximum, msg.labels._buffer); !s) {
+    return makeError(s.error());
+  }
+  if (msg.labels._length != static_cast<uint64_t>(msg.width) * msg.height) {
+    return makeError("labels: " + std::to_string(msg.labels._length) + " labels for " + std::to_string(w) + "x" +
+                     std::to_string(h) + ", expected " + std::to_string(static_cast<uint64_t>(w) * h));
+  }
+  segmentation.labels.create(h, w, CV_16UC1);
+  std::memcpy(segmentation.labels.data, msg.labels._buffer, msg.labels._length * sizeof(uint16_t));
+
+  const std::string encoding = stringOf(msg.confidence_encoding);
+  if (Status s = validateEncoding("confidence", encoding, confidenceEncodings()); !s) return makeError(s.error());
+  if (Status s = validateSequence("confidence", msg.confidence._length, msg.confidence._maximum, msg.confidence._buffer); !s) {
+    return makeError(s.error());
+  }
+  const std::size_t bytes = msg.confidence._length;
+  if (encoding.empty()) {
+    if (bytes != 0) return makeError("confidence: " + std::to_string(bytes) + " bytes with encoding \"\" (none)");
+    segmentation.confidence = cv::Mat(h, w, CV_32FC1, cv::Scalar(1.0f));
+  } else if (encoding == "8UC1") {
+    if (Status s = validateDataSize("confidence", bytes, msg.width, msg.height, encoding, 1); !s) return makeError(s.error());
+    const cv::Mat bytes_view(h, w, CV_8UC1, msg.confidence._buffer);
+    bytes_view.convertTo(segmentation.confidence, CV_32F, 1.0 / 255.0);
+  } else {
+    if (Status s = validateDataSize("confidence", bytes, msg.width, msg.height, encoding, 4); !s) return makeError(s.error());
+    segmentation.confidence.create(h, w, CV_32FC1);
+    std::memcpy(segmentation.confidence.data, msg.confidence._buffer, bytes);
+    if (Status s = validateConfidence(segmentation.confidence); !s) return makeError(s.error());
+  }
+  return segmentation;
+}
+
+EncodedTrackedPose encodeTrackedPose(const TrackedPose& pose) {
+  EncodedTrackedPose encoded;
+  auto& msg = encoded.msg();
+  msg.header.stamp.sec = pose.stamp.sec;
+  msg.header.stamp.nanosec = pose.stamp.nanosec;
+  msg.header.frame_id = encoded.keepString(pose.frame_id);
+  msg.camera_id = encoded.keepString(pose.camera_id);
+  msg.seq = pose.seq;
+  msg.state = static_cast<uint8_t>(pose.state);
+  msg.integrated = pose.integrated;
+  poseToRowMajor(pose.camera_to_world, msg.camera_to_world);
+  msg.inlier_ratio = pose.inlier_ratio;
+  msg.residual = pose.residual;
+  msg.iterations = pose.iterations;
+  msg.track_ms = pose.track_ms;
+  msg.integrate_ms = pose.integrate_ms;
+  return encoded;
+}
+
+Result<TrackedPose> decodeTrackedPose(const semfuse_msg_dds__TrackedPose_& msg) {
+  if (msg.state > static_cast<uint8_t>(PoseState::kLost)) {
+    return makeError("tracked pose: unknown state " + std::to_string(msg.state) + " (known: 0 given, 1 tracked, 2 refined, 3 lost)");
+  }
+  TrackedPose pose;
+  pose.camera_id = stringOf(msg.camera_id);
+  pose.seq = msg.seq;
+  pose.stamp = {msg.header.stamp.sec, msg.header.stamp.nanosec};
+  pose.frame_id = stringOf(msg.header.frame_id);
+  pose.state = static_cast<PoseState>(msg.state);
+  pose.integrated = msg.integrated;
+  pose.camera_to_world = poseFromRowMajor(msg.camera_to_world);
+  // A lost frame may carry any placeholder; a used pose must be a rigid transform.
+  if (pose.state != PoseState::kLost) {
+    if (Status s = validatePose(pose.camera_to_world); !s) return makeError("tracked " + s.error());
+  }
+  pose.inlier_ratio = msg.inlier_ratio;
+  pose.residual = msg.residual;
+  pose.iterations = msg.iterations;
+  pose.track_ms = msg.track_ms;
+  pose.integrate_ms = msg.integrate_ms;
+  return pose;
+}
+
+EncodedLegend encodeLegend(const LabelLegend& legend, Stamp stamp) {
+  EncodedLegend encoded;
+  auto& msg = encoded.msg();
+  msg.header.stamp.sec = stamp.sec;
+  msg.header.stamp.nanosec = stamp.nanosec;
+  msg.header.frame_id = encoded.keepString("");
+  msg.name = encoded.keepString(legend.name);
+  std::vector<semfuse_msg_dds__LabelEntry_> entries;
+  entries.reserve(legend.labels.size());
+  for (const LabelInfo& label : legend.labels) {
+    entries.push_back({label.id, encoded.keepString(label.name), label.rgb[0], label.rgb[1], label.rgb[2]});
+  }
+  encoded.keepSequence(msg.labels, std::move(entries));
+  encoded.keepSequence(msg.background_ids, legend.background_ids);
+  return encoded;
+}
+
+Result<LabelLegend> decodeLegend(const semfuse_msg_dds__LabelLegend_& msg) {
+  if (Status s = validateSequence("legend labels", msg.labels._length, msg.labels._maximum, msg.labels._buffer); !s) {
+    return makeError(s.error());
+  }
+  if (Status s = validateSequence("legend background_ids", msg.background_ids._length, msg.background_ids._maximum,
+                                  msg.background_ids._buffer);
+      !s) {
+    return makeError(s.error());
+  }
+  LabelLegend legend;
+  legend.name = stringOf(msg.name);
+  for (uint32_t i = 0; i < msg.labels._length; ++i) {
+    const auto& entry = msg.labels._buffer[i];
+    legend.labels.push_back({entry.id, stringOf(entry.name), {entry.r, entry.g, entry.b}});
+  }
+  std::stable_sort(legend.labels.begin(), legend.labels.end(),
+                   [](const LabelInfo& a, const LabelInfo& b) { return a.id < b.id; });
+  legend.background_ids.assign(msg.background_ids._buffer, msg.background_ids._buffer + msg.background_ids._length);
+  std::sort(legend.background_ids.begin(), legend.background_ids.end());
+  if (Status s = validateLegend(legend); !s) return makeError(s.error());
+  return legend;
+}
+
+}  // namespace semfuse::wire

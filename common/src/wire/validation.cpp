@@ -1,0 +1,176 @@
+#include "semfuse/wire/validation.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include <opencv2/core.hpp>
+
+namespace semfuse::wire {
+namespace {
+
+std::string number(double value) {
+  std::ostringstream out;
+  out << value;
+  return out.str();
+}
+
+std::string size(int64_t width, int64_t height) { return std::to_string(width) + "x" + std::to_string(height); }
+
+}  // namespace
+
+std::string typeName(int cv_type) {
+  std::string name = cv::typeToString(cv_type);
+  return name.rfind("CV_", 0) == 0 ? name.substr(3) : name;
+}
+
+Status validateImageSize(const std::string& what, int64_t width, int64_t height, uint32_t max_side) {
+  if (width <= 0 || height <= 0) return makeError(what + ": image size " + size(width, height) + " is empty");
+  if (width > max_side || height > max_side) {
+    return makeError(what + ": image size " + size(width, height) + " exceeds the " + std::to_string(max_side) +
+                     "-pixel limit");
+  }
+  return Status::Ok();
+}
+
+Status validateSequence(const std::string& what, uint32_t length, uint32_t maximum, const void* buffer) {
+  if (length > maximum) {
+    return makeError(what + ": truncated sequence, length " + std::to_string(length) + " exceeds its allocation of " +
+                     std::to_string(maximum));
+  }
+  if (length > 0 && buffer == nullptr) {
+    return makeError(what + ": truncated sequence, length " + std::to_string(length) + " but no data");
+  }
+  return Status::Ok();
+}
+
+Status validateDataSize(const std::string& what, std::size_t bytes, uint32_t width, uint32_t height,
+                        const std::string& encoding, std::size_t bytes_per_pixel) {
+  const uint64_t expected = static_cast<uint64_t>(width) * height * bytes_per_pixel;
+  if (bytes != expected) {
+    return makeError(what + ": " + std::to_string(bytes) + " bytes for " + size(width, height) + " " + encoding +
+                     ", expected " + std::to_string(expected));
+  }
+  return Status::Ok();
+}
+
+Status validateEncoding(const std::string& what, const std::string& encoding, const std::vector<std::string>& known) {
+  for (const std::string& name : known) {
+    if (name == encoding) return Status::Ok();
+  }
+  std::string list;
+  for (const std::string& name : known) list += (list.empty() ? "" : ", ") + (name.empty() ? "\"\"" : name);
+  return makeError(what + ": unknown encoding '" + encoding + "' (known: " + list + ")");
+}
+
+Status validateIntrinsics(const PinholeIntrinsics& k, uint32_t max_side) {
+  if (Status s = validateImageSize("intrinsics", k.width, k.height, max_side); !s) return s;
+  const auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
+  if (!positive(k.fx) || !positive(k.fy)) {
+    return makeError("intrinsics: focal lengths must be finite and > 0, got fx=" + number(k.fx) +
+                     " fy=" + number(k.fy));
+  }
+  if (!std::isfinite(k.cx) || !std::isfinite(k.cy)) {
+    return makeError("intrinsics: principal point must be finite, got cx=" + number(k.cx) + " cy=" + number(k.cy));
+  }
+  return Status::Ok();
+}
+
+Status validatePose(const Pose& pose, double tolerance) {
+  const Eigen::Matrix<double, 3, 4> m = pose.matrix().topRows<3>();
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 4; ++c) {
+      if (!std::isfinite(m(r, c))) {
+        return makeError("pose: non-finite value " + number(m(r, c)) + " at row " + std::to_string(r) + ", column " +
+                         std::to_string(c));
+      }
+    }
+  }
+  const Eigen::Matrix3d rotation = m.leftCols<3>();
+  const double error = (rotation.transpose() * rotation - Eigen::Matrix3d::Identity()).norm();
+  if (error > tolerance) {
+    return makeError("pose: rotation is not orthonormal (|R^T R - I| = " + number(error) + ", tolerance " +
+                     number(tolerance) + ")");
+  }
+  const double det = rotation.determinant();
+  if (det < 0.0) return makeError("pose: rotation is a reflection (determinant " + number(det) + ")");
+  return Status::Ok();
+}
+
+Status validateDecodedImage(const std::string& what, const std::string& format, const cv::Mat& decoded,
+                            uint32_t width, uint32_t height, int expected_type) {
+  if (decoded.empty()) return makeError(what + ": " + format + " payload does not decode");
+  if (decoded.cols != static_cast<int>(width) || decoded.rows != static_cast<int>(height) ||
+      decoded.type() != expected_type) {
+    return makeError(what + ": " + format + " decodes to " + size(decoded.cols, decoded.rows) + " " +
+                     typeName(decoded.type()) + ", declared " + size(width, height) + " " + typeName(expected_type));
+  }
+  return Status::Ok();
+}
+
+Result<cv::Size> pngDeclaredSize(const uint8_t* data, std::size_t size) {
+  // 8-byte signature, then the IHDR chunk: length (4), "IHDR" (4), width (4, big-endian), height (4).
+  static const uint8_t kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (data == nullptr || size < 24 || !std::equal(kSignature, kSignature + 8, data) ||
+      std::string(reinterpret_cast<const char*>(data) + 12, 4) != "IHDR") {
+    return makeError("not a PNG (bad signature or header)");
+  }
+  const auto be32 = [&](std::size_t at) {
+    return (uint32_t{data[at]} << 24) | (uint32_t{data[at + 1]} << 16) | (uint32_t{data[at + 2]} << 8) | data[at + 3];
+  };
+  const uint32_t width = be32(16), height = be32(20);
+  if (width > static_cast<uint32_t>(INT32_MAX) || height > static_cast<uint32_t>(INT32_MAX)) {
+    return makeError("PNG declares an impossible size " + std::to_string(width) + "x" + std::to_string(height));
+  }
+  return cv::Size(static_cast<int>(width), static_cast<int>(height));
+}
+
+Status validateSegmentationSize(uint32_t seg_width, uint32_t seg_height, uint32_t frame_width, uint32_t frame_height) {
+  if (seg_width > frame_width || seg_height > frame_height) {
+    return makeError("segmentation: " + size(seg_width, seg_height) + " is larger than its frame " +
+                     size(frame_width, frame_height));
+  }
+  return Status::Ok();
+}
+
+Status validateConfidence(const cv::Mat& confidence) {
+  if (confidence.type() != CV_32FC1) {
+    return makeError("confidence: type " + typeName(confidence.type()) + ", expected 32FC1");
+  }
+  for (int y = 0; y < confidence.rows; ++y) {
+    const float* row = confidence.ptr<float>(y);
+    for (int x = 0; x < confidence.cols; ++x) {
+      if (!(row[x] >= 0.0f && row[x] <= 1.0f)) {  // also catches NaN
+        return makeError("confidence: value " + number(row[x]) + " at (" + std::to_string(x) + ", " +
+                         std::to_string(y) + ") outside [0, 1]");
+      }
+    }
+  }
+  return Status::Ok();
+}
+
+Status validateLabels(const cv::Mat& labels, const LabelLegend& legend) {
+  if (labels.type() != CV_16UC1) return makeError("labels: type " + typeName(labels.type()) + ", expected 16UC1");
+  // A lookup table over all 65536 ids keeps this one pass without a search per pixel.
+  std::vector<bool> known(65536, false);
+  for (const LabelInfo& info : legend.labels) known[info.id] = true;
+  uint64_t bad = 0;
+  int first_x = -1, first_y = -1;
+  LabelId first_id = 0;
+  for (int y = 0; y < labels.rows; ++y) {
+    const uint16_t* row = labels.ptr<uint16_t>(y);
+    for (int x = 0; x < labels.cols; ++x) {
+      if (known[row[x]]) continue;
+      if (bad++ == 0) {
+        first_x = x;
+        first_y = y;
+        first_id = row[x];
+      }
+    }
+  }
+  if (bad == 0) return Status::Ok();
+  return makeError("labels: " + std::to_string(bad) + " pixel" + (bad == 1 ? "" : "s") + " with ids outside legend '" +
+                   legend.name + "' (max id " + std::to_string(legend.maxId()) + "); first: id " +
+                   std::to_string(first_id) + " at (" + std::to_string(first_x) + ", " + std::to_string(first_y) + ")");
+}
+
+}  // namespace semfuse::wire

@@ -1,0 +1,51 @@
+#include "semfuse/wire/validation.hpp"
+
+#include <gtest/gtest.h>
+#include <opencv2/core.hpp>
+
+namespace semfuse::wire {
+namespace {
+
+TEST(Validation, PoseReflectionIsRejected) {
+  Pose mirror = Pose::Identity();
+  mirror.linear()(2, 2) = -1.0;
+  EXPECT_EQ(validatePose(mirror).error(), "pose: rotation is a reflection (determinant -1)");
+  EXPECT_TRUE(validatePose(Pose::Identity()).ok());
+}
+
+TEST(Validation, SegmentationLargerThanFrame) {
+  EXPECT_TRUE(validateSegmentationSize(320, 240, 640, 480).ok());
+  EXPECT_EQ(validateSegmentationSize(641, 480, 640, 480).error(), "segmentation: 641x480 is larger than its frame 640x480");
+}
+
+TEST(Validation, ConfidenceNaNIsOutOfRange) {
+  cv::Mat confidence(2, 2, CV_32FC1, cv::Scalar(0.5f));
+  EXPECT_TRUE(validateConfidence(confidence).ok());
+  confidence.at<float>(1, 0) = std::nanf("");
+  EXPECT_EQ(validateConfidence(confidence).error(), "confidence: value nan at (0, 1) outside [0, 1]");
+  confidence.at<float>(1, 0) = -0.25f;
+  EXPECT_EQ(validateConfidence(confidence).error(), "confidence: value -0.25 at (0, 1) outside [0, 1]");
+}
+
+TEST(Validation, LabelsOutsideTheLegendReportFirstIdAndCount) {
+  const LabelLegend voc = *builtinLegend("voc");
+  cv::Mat labels(3, 4, CV_16UC1, cv::Scalar(9));
+  EXPECT_TRUE(validateLabels(labels, voc).ok());
+  labels.at<uint16_t>(1, 2) = 21;
+  labels.at<uint16_t>(2, 3) = 400;
+  EXPECT_EQ(validateLabels(labels, voc).error(),
+            "labels: 2 pixels with ids outside legend 'voc' (max id 20); first: id 21 at (2, 1)");
+}
+
+TEST(Validation, PngDeclaredSizeReadsTheHeader) {
+  std::vector<uint8_t> header = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n', 0, 0, 0, 13, 'I', 'H', 'D', 'R',
+                                 0, 0, 0x02, 0x80, 0, 0, 0x01, 0xE0};
+  auto size = pngDeclaredSize(header.data(), header.size());
+  ASSERT_TRUE(size.ok()) << size.error();
+  EXPECT_EQ(size.value(), cv::Size(640, 480));
+  header[1] = 'X';
+  EXPECT_FALSE(pngDeclaredSize(header.data(), header.size()).ok());
+}
+
+}  // namespace
+}  // namespace semfuse::wire
