@@ -1,0 +1,208 @@
+#include "fusion_loop.hpp"
+
+#include <spdlog/spdlog.h>
+
+namespace semfuse::server {
+
+FusionLoop::FusionLoop(Mapper& mapper, FrameQueue& frames, ServerState& state, const FusionLimits& limits,
+                       FrameCallback on_frame)
+    : mapper_(mapper),
+      frames_(frames),
+      state_(state),
+      on_frame_(std::move(on_frame)),
+      history_(limits.history_frames, limits.history_bytes),
+      pending_(limits.pending_segmentations, limits.pending_timeout) {}
+
+FusionLoop::~FusionLoop() { stop(); }
+
+void FusionLoop::start() {
+  running_ = true;
+  thread_ = std::thread([this] { run(); });
+}
+
+void FusionLoop::stop() {
+  if (!running_.exchange(false)) return;
+  frames_.wake();
+  if (thread_.joinable()) thread_.join();
+}
+
+void FusionLoop::submitSegmentation(Segmentation segmentation) {
+  {
+    std::lock_guard lock(inbox_mutex_);
+    inbox_.push_back(std::move(segmentation));
+  }
+  frames_.wake();  // the fusion thread may be waiting for a frame
+}
+
+Status FusionLoop::runOnFusionThread(std::function<Status()> task, std::chrono::milliseconds timeout) {
+  std::packaged_task<Status()> packaged(std::move(task));
+  auto result = packaged.get_future();
+  {
+    std::lock_guard lock(inbox_mutex_);
+    tasks_.push_back(std::move(packaged));
+  }
+  frames_.wake();
+  if (result.wait_for(timeout) != std::future_status::ready)
+    return makeError("the fusion thread did not run the request within " + std::to_string(timeout.count()) +
+                     " ms (busy integrating)");
+  return result.get();
+}
+
+size_t FusionLoop::pendingSegmentations() const { return pending_size_.load(); }
+size_t FusionLoop::historyFrames() const { return history_size_.load(); }
+
+bool FusionLoop::idle() const {
+  std::lock_guard lock(inbox_mutex_);
+  return inbox_.empty() && tasks_.empty() && frames_.size() == 0 && !busy_.load();
+}
+
+void FusionLoop::run() {
+  using namespace std::chrono_literals;
+  while (running_) {
+    runTasks();
+    std::vector<Segmentation> arrived;
+    {
+      std::lock_guard lock(inbox_mutex_);
+      arrived.swap(inbox_);
+      busy_ = !arrived.empty();
+    }
+    for (auto& segmentation : arrived) applySegmentation(std::move(segmentation));
+
+    if (auto frame = frames_.pop(20ms)) {
+      busy_ = true;
+      processFrame(std::move(*frame));
+    }
+    expirePending();
+    pending_size_ = pending_.size();
+    history_size_ = history_.size();
+    busy_ = false;
+  }
+  runTasks();  // nobody waits forever on a task posted during shutdown
+}
+
+void FusionLoop::runTasks() {
+  std::vector<std::packaged_task<Status()>> tasks;
+  {
+    std::lock_guard lock(inbox_mutex_);
+    tasks.swap(tasks_);
+  }
+  for (auto& task : tasks) {
+    task();
+    // A load or reset invalidates every frame the history holds and every waiting segmentation.
+    history_.clear();
+    for (auto& waiting : pending_.expire(PendingSegmentations::Clock::time_point::max()))
+      state_.dropped.add(reason::kUnknownFrame, waiting.camera_id);
+  }
+}
+
+void FusionLoop::processFrame(Frame frame) {
+  // A segmentation that was already waiting is fused in the same pass as the depth (one walk
+  // over the voxels instead of two); any further ones for this frame follow separately.
+  std::vector<Segmentation> waiting = pending_.takeFor(frame.camera_id, frame.seq);
+  const Segmentation* same_pass = nullptr;
+  for (const auto& candidate : waiting) {
+    if (candidate.labels.cols <= frame.depth.cols && candidate.labels.rows <= frame.depth.rows) {
+      same_pass = &candidate;
+      break;
+    }
+  }
+  auto outcome = mapper_.integrateFrame(frame, same_pass);
+  if (!outcome.ok()) {
+    const bool no_pose = outcome.error().find("first frame has no pose") != std::string::npos;
+    state_.reject(no_pose ? reason::kNoPose : reason::kIntegrationFailed, frame.camera_id,
+                  "frame " + frame.camera_id + "/" + std::to_string(frame.seq), outcome.error());
+    // Remember the frame so its segmentations are rejected at once instead of waiting.
+    history_.add({frame.camera_id, frame.seq, false, frame.intrinsics, cv::Mat(), Pose::Identity()});
+    for (const auto& segmentation : waiting) state_.dropped.add(reason::kUnknownFrame, segmentation.camera_id);
+    return;
+  }
+  const FrameOutcome& result = outcome.value();
+  const auto tracking_state = static_cast<uint8_t>(result.pose_source);
+  if (result.integrated) {
+    ++state_.frames_integrated;
+  } else {
+    ++state_.frames_lost;
+    state_.dropped.add(reason::kTrackingLost, frame.camera_id);
+    spdlog::warn("camera {} frame {}: tracking lost ({}), not integrated", frame.camera_id, frame.seq,
+                 result.lost_reason);
+  }
+  state_.frameProcessed(frame.camera_id, result.integrated, tracking_state);
+  if (on_frame_) on_frame_(frame, result);
+
+  HistoryEntry entry{frame.camera_id, frame.seq, result.integrated, frame.intrinsics,
+                     result.integrated ? frame.depth : cv::Mat(), result.camera_to_world};
+  history_.add(std::move(entry));
+  const HistoryEntry* stored = history_.find(frame.camera_id, frame.seq);
+  for (const auto& segmentation : waiting) {
+    if (&segmentation == same_pass && result.integrated) {
+      ++state_.segmentations_integrated;
+    } else if (stored && stored->integrated) {
+      integrateLabels(*stored, segmentation);
+    } else {
+      state_.dropped.add(reason::kUnknownFrame, segmentation.camera_id);
+    }
+  }
+}
+
+void FusionLoop::applySegmentation(Segmentation segmentation) {
+  const std::string& camera = segmentation.camera_id;
+  if (const HistoryEntry* entry = history_.find(camera, segmentation.frame_seq)) {
+    if (!entry->integrated) {
+      state_.reject(reason::kUnknownFrame, camera, "segmentation " + segmentation.segmenter_id,
+                    "frame " + camera + "/" + std::to_string(segmentation.frame_seq) +
+                        " was not integrated (tracking lost or rejected): its labels have no geometry");
+      return;
+    }
+    integrateLabels(*entry, segmentation);
+    return;
+  }
+  // Not in the history: either the frame is still on its way (wait for it), or it is gone.
+  const auto last = history_.lastSeq(camera);
+  if (last && segmentation.frame_seq <= *last) {
+    state_.reject(reason::kUnknownFrame, camera, "segmentation " + segmentation.segmenter_id,
+                  "frame " + camera + "/" + std::to_string(segmentation.frame_seq) +
+                      " is no longer in the frame history (evicted or never received)");
+    return;
+  }
+  for (auto& evicted : pending_.add(std::move(segmentation))) {
+    state_.dropped.add(reason::kPendingFull, evicted.camera_id);
+    state_.touch();
+  }
+}
+
+void FusionLoop::integrateLabels(const HistoryEntry& entry, const Segmentation& segmentation) {
+  if (segmentation.labels.cols > entry.depth.cols || segmentation.labels.rows > entry.depth.rows) {
+    state_.reject(reason::kSizeMismatch, segmentation.camera_id, "segmentation " + segmentation.segmenter_id,
+                  "labels " + std::to_string(segmentation.labels.cols) + "x" +
+                      std::to_string(segmentation.labels.rows) + " are larger than frame " +
+                      std::to_string(entry.seq) + "'s depth " + std::to_string(entry.depth.cols) + "x" +
+                      std::to_string(entry.depth.rows));
+    return;
+  }
+  auto stats = mapper_.integrateSegmentation(entry, segmentation);
+  if (!stats.ok()) {
+    state_.reject(reason::kInvalidSegmentation, segmentation.camera_id,
+                  "segmentation " + segmentation.segmenter_id, stats.error());
+    return;
+  }
+  ++state_.segmentations_integrated;
+  state_.touch();
+}
+
+void FusionLoop::expirePending() {
+  for (auto& expired : pending_.expire()) {
+    const bool camera_known = state_.knowsCamera(expired.camera_id);
+    if (camera_known) {
+      state_.dropped.add(reason::kSegmentationTimeout, expired.camera_id);
+      state_.errors.record("segmentation " + expired.segmenter_id,
+                           "frame " + expired.camera_id + "/" + std::to_string(expired.frame_seq) +
+                               " never arrived; segmentation dropped");
+      state_.touch();
+    } else {
+      state_.reject(reason::kUnknownCamera, expired.camera_id, "segmentation " + expired.segmenter_id,
+                    "no frame from camera '" + expired.camera_id + "' ever arrived");
+    }
+  }
+}
+
+}  // namespace semfuse::server

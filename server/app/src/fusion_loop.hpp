@@ -1,0 +1,79 @@
+#pragma once
+// The fusion thread: the only writer of the map. Each turn it runs posted admin tasks (load,
+// reset), applies the segmentations that arrived, fuses the next frame (round-robin over
+// cameras), then applies segmentations that were waiting for that frame and expires the ones
+// that waited too long. Every input ends integrated or counted under a reason.
+#include <atomic>
+#include <chrono>
+#include <functional>
+#include <future>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "frame_history.hpp"
+#include "frame_queue.hpp"
+#include "mapper.hpp"
+#include "pending_segmentations.hpp"
+#include "server_state.hpp"
+
+namespace semfuse::server {
+
+struct FusionLimits {
+  size_t history_frames = 120;
+  size_t history_bytes = 512u << 20;
+  size_t pending_segmentations = 64;
+  std::chrono::milliseconds pending_timeout{10000};
+};
+
+class FusionLoop {
+ public:
+  // Called after each processed frame (integrated or lost) with the outcome, from the fusion
+  // thread: the server publishes the pose from here.
+  using FrameCallback = std::function<void(const Frame&, const FrameOutcome&)>;
+
+  FusionLoop(Mapper& mapper, FrameQueue& frames, ServerState& state, const FusionLimits& limits,
+             FrameCallback on_frame);
+  ~FusionLoop();
+
+  void start();
+  void stop();
+
+  // From any thread: a decoded, validated segmentation to apply.
+  void submitSegmentation(Segmentation segmentation);
+
+  // Runs `task` on the fusion thread between two frames and returns its result.
+  Status runOnFusionThread(std::function<Status()> task, std::chrono::milliseconds timeout);
+
+  size_t pendingSegmentations() const;
+  size_t historyFrames() const;
+  bool idle() const;  // no queued frame, no queued segmentation, nothing in progress
+
+ private:
+  void run();
+  void runTasks();
+  void processFrame(Frame frame);
+  void applySegmentation(Segmentation segmentation);
+  void integrateLabels(const HistoryEntry& entry, const Segmentation& segmentation);
+  void expirePending();
+
+  Mapper& mapper_;
+  FrameQueue& frames_;
+  ServerState& state_;
+  FrameCallback on_frame_;
+
+  FrameHistory history_;            // fusion thread only
+  PendingSegmentations pending_;    // fusion thread only
+  std::atomic<size_t> history_size_{0};
+  std::atomic<size_t> pending_size_{0};
+  std::atomic<bool> busy_{false};
+
+  mutable std::mutex inbox_mutex_;
+  std::vector<Segmentation> inbox_;
+  std::vector<std::packaged_task<Status()>> tasks_;
+
+  std::atomic<bool> running_{false};
+  std::thread thread_;
+};
+
+}  // namespace semfuse::server

@@ -1,0 +1,120 @@
+#pragma once
+// Mapper: the one object that owns the map (nvblox-style facade). The fusion thread is its only
+// writer: integrateFrame() picks the pose (given, refined or tracked), fuses depth, colour and
+// labels; integrateSegmentation() adds a late segmentation's label evidence. Queries read under a
+// shared lock, so they run concurrently with each other and wait only for the write in progress.
+// Saving copies the volume under the shared lock and writes the copy without holding it.
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <shared_mutex>
+#include <string>
+
+#include "frame_history.hpp"
+#include "semfuse/core/legend.hpp"
+#include "semfuse/core/result.hpp"
+#include "semfuse/core/types.hpp"
+#include "semfuse/volume/integrator.hpp"
+#include "semfuse/volume/labeled_volume.hpp"
+#include "semfuse/volume/map_file.hpp"
+
+namespace semfuse::server {
+
+// How the pose of a frame was obtained; the values are TrackedPose_Constants on the wire.
+enum class PoseSource : uint8_t { kGiven = 0, kTracked = 1, kRefined = 2, kLost = 3 };
+
+struct FrameOutcome {
+  bool integrated = false;
+  PoseSource pose_source = PoseSource::kGiven;
+  Pose camera_to_world = Pose::Identity();
+  float inlier_ratio = 1.0f;
+  float residual = 0.0f;
+  uint32_t iterations = 0;
+  double track_ms = 0.0;
+  double integrate_ms = 0.0;
+  std::string lost_reason;  // why tracking gave up (pose_source == kLost)
+  volume::IntegrationStats stats;
+};
+
+// Pose estimation for frames that come without one (or with one to refine). The server wires in
+// the SDF tracker; tests can plug in something simpler.
+class PoseEstimator {
+ public:
+  struct Estimate {
+    bool ok = false;
+    Pose camera_to_world = Pose::Identity();
+    float inlier_ratio = 0.0f;
+    float residual = 0.0f;
+    uint32_t iterations = 0;
+    std::string failure;
+  };
+  virtual ~PoseEstimator() = default;
+  // Aligns `frame` (depth) to the volume starting from `guess`. Called with the map read-locked.
+  virtual Estimate estimate(const volume::LabeledVolume& volume, const Frame& frame, const Pose& guess) = 0;
+};
+
+struct MapperOptions {
+  volume::VolumeParams volume;
+  LabelLegend legend;
+  bool refine_given_poses = false;
+};
+
+class Mapper {
+ public:
+  Mapper(MapperOptions options, std::unique_ptr<PoseEstimator> estimator);
+
+  // Fusion thread only. Errors: bad input (sizes, intrinsics) or a camera whose first frame
+  // has no pose while the map already has content (it could not be placed in the world frame).
+  Result<FrameOutcome> integrateFrame(const Frame& frame, const Segmentation* segmentation = nullptr);
+  Result<volume::IntegrationStats> integrateSegmentation(const HistoryEntry& frame,
+                                                          const Segmentation& segmentation);
+
+  // Runs `fn(volume)` under the shared lock.
+  template <class Fn>
+  auto read(Fn&& fn) const {
+    std::shared_lock lock(mutex_);
+    return fn(volume_);
+  }
+
+  const LabelLegend& legend() const { return options_.legend; }
+  const volume::VolumeParams& volumeParams() const { return options_.volume; }
+
+  Status save(const std::filesystem::path& path, const volume::MapExtraMetadata& extra = {}) const;
+  // Replaces the map with a file's content; the map is untouched when the file is bad or its
+  // parameters are incompatible with this server's (voxel size, truncation).
+  // Fusion thread only (the server posts admin load/reset to it), like integrateFrame().
+  Status load(const std::filesystem::path& path);
+  void reset();
+
+  struct Size {
+    uint64_t allocated_voxels = 0;
+    uint64_t allocated_blocks = 0;
+    uint64_t observed_voxels = 0;
+    uint64_t memory_bytes = 0;
+    uint64_t frames_integrated = 0;
+  };
+  Size size() const;
+  // Incremented by every write; lets status and query caches tell whether the map changed.
+  uint64_t revision() const;
+
+ private:
+  struct CameraTrack {
+    Pose last_pose = Pose::Identity();
+    Pose velocity = Pose::Identity();  // last_pose * previous^-1: constant-velocity prior
+    bool has_pose = false;
+  };
+  Result<Pose> choosePose(const Frame& frame, CameraTrack& track, FrameOutcome& outcome);
+
+  MapperOptions options_;
+  std::unique_ptr<PoseEstimator> estimator_;
+  mutable std::shared_mutex mutex_;
+  volume::LabeledVolume volume_;
+  std::map<std::string, CameraTrack> cameras_;  // fusion thread only
+  uint64_t revision_ = 0;                        // guarded by mutex_
+};
+
+}  // namespace semfuse::server

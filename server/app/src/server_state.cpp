@@ -1,0 +1,52 @@
+#include "server_state.hpp"
+
+#include <spdlog/spdlog.h>
+
+namespace semfuse::server {
+
+void ServerState::reject(const char* why, const std::string& camera_id, const std::string& source,
+                         const std::string& message) {
+  rejected.add(why, camera_id);
+  errors.record(source, message);
+  spdlog::warn("{}: rejected ({}): {}", source, why, message);
+  touch();
+}
+
+void ServerState::frameArrived(const std::string& camera_id, uint64_t seq, Clock::time_point now) {
+  std::lock_guard lock(mutex_);
+  CameraActivity& camera = cameras_[camera_id];
+  if (camera.frames_received > 0) {
+    const double dt = std::chrono::duration<double>(now - camera.last_frame_time).count();
+    if (dt > 0.0) {
+      const double instant = 1.0 / dt;
+      camera.rate_hz = camera.rate_hz == 0.0 ? instant : 0.9 * camera.rate_hz + 0.1 * instant;
+    }
+  }
+  camera.last_frame_time = now;
+  camera.last_seq = seq;
+  ++camera.frames_received;
+  touch();
+}
+
+void ServerState::frameProcessed(const std::string& camera_id, bool integrated, uint8_t tracking_state) {
+  std::lock_guard lock(mutex_);
+  CameraActivity& camera = cameras_[camera_id];
+  camera.tracking_state = tracking_state;
+  if (integrated)
+    ++camera.frames_integrated;
+  else
+    ++camera.frames_lost;
+  touch();
+}
+
+std::map<std::string, CameraActivity> ServerState::cameras() const {
+  std::lock_guard lock(mutex_);
+  return cameras_;
+}
+
+bool ServerState::knowsCamera(const std::string& camera_id) const {
+  std::lock_guard lock(mutex_);
+  return cameras_.count(camera_id) > 0;
+}
+
+}  // namespace semfuse::server

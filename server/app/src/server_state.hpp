@@ -1,0 +1,75 @@
+#pragma once
+// What the server's threads share besides the map: counters, errors, per-camera activity.
+// Everything here is safe to touch from any thread.
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <map>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "event_counters.hpp"
+
+namespace semfuse::server {
+
+// Reasons under which inputs are dropped (accepted, then given up for capacity or time) or
+// rejected (malformed or inconsistent). They appear verbatim in ServerStatus.
+namespace reason {
+inline constexpr const char* kQueueFull = "queue_full";                    // drop: newer frame came
+inline constexpr const char* kPendingFull = "pending_full";                // drop: too many waiting
+inline constexpr const char* kSegmentationTimeout = "segmentation_timeout";  // drop: frame never came
+inline constexpr const char* kTrackingLost = "tracking_lost";              // frame not integrated
+inline constexpr const char* kInvalidFrame = "invalid_frame";
+inline constexpr const char* kInvalidSegmentation = "invalid_segmentation";
+inline constexpr const char* kLabelOutOfLegend = "label_out_of_legend";
+inline constexpr const char* kUnknownCamera = "unknown_camera";
+inline constexpr const char* kUnknownFrame = "unknown_frame";      // evicted, lost, or never seen
+inline constexpr const char* kSizeMismatch = "size_mismatch";      // segmentation larger than frame
+inline constexpr const char* kNoPose = "first_frame_without_pose";
+inline constexpr const char* kIntegrationFailed = "integration_failed";
+}  // namespace reason
+
+struct CameraActivity {
+  uint8_t tracking_state = 0;  // TrackedPose_Constants
+  uint64_t last_seq = 0;
+  uint64_t frames_received = 0;
+  uint64_t frames_integrated = 0;
+  uint64_t frames_lost = 0;
+  std::chrono::steady_clock::time_point last_frame_time{};
+  double rate_hz = 0.0;  // exponential moving average of the arrival rate
+};
+
+class ServerState {
+ public:
+  using Clock = std::chrono::steady_clock;
+
+  EventCounters dropped;
+  EventCounters rejected;
+  ErrorLog errors{16};
+
+  std::atomic<uint64_t> frames_received{0};
+  std::atomic<uint64_t> frames_integrated{0};
+  std::atomic<uint64_t> frames_lost{0};
+  std::atomic<uint64_t> segmentations_received{0};
+  std::atomic<uint64_t> segmentations_integrated{0};
+
+  // Records a rejection: counter + error log + one warning line.
+  void reject(const char* why, const std::string& camera_id, const std::string& source,
+              const std::string& message);
+
+  void frameArrived(const std::string& camera_id, uint64_t seq, Clock::time_point now = Clock::now());
+  void frameProcessed(const std::string& camera_id, bool integrated, uint8_t tracking_state);
+  std::map<std::string, CameraActivity> cameras() const;
+  bool knowsCamera(const std::string& camera_id) const;
+  // Changes whenever a counter the status reports changes (for "publish on change").
+  uint64_t changeCount() const { return changes_.load(); }
+  void touch() { ++changes_; }
+
+ private:
+  mutable std::mutex mutex_;
+  std::map<std::string, CameraActivity> cameras_;
+  std::atomic<uint64_t> changes_{0};
+};
+
+}  // namespace semfuse::server
