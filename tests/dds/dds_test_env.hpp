@@ -27,10 +27,13 @@ inline void useLoopbackConfig() { ::setenv("CYCLONEDDS_URI", kLoopbackConfig, 1)
 // One domain per test process (ctest runs each test in its own process).
 inline dds_domainid_t testDomain() { return static_cast<dds_domainid_t>(10 + ::getpid() % 200); }
 
-// "<base>_<pid>_<test name>": unique even if two processes land on the same domain.
+// "<base>_<pid>_<test name>_<n>": unique even if two processes land on the same domain, and
+// across --gtest_repeat runs, whose endpoints of the previous round may still be known.
 inline std::string uniqueName(const std::string& base) {
+  static int counter = 0;
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  return base + "_" + std::to_string(::getpid()) + "_" + (info ? info->name() : "x");
+  return base + "_" + std::to_string(::getpid()) + "_" + (info ? info->name() : "x") + "_" +
+         std::to_string(counter++);
 }
 
 inline constexpr dds_duration_t kDiscoveryTimeout = DDS_SECS(15);

@@ -1,7 +1,8 @@
 // semfuse_dds_echo <domain> <topic prefix>: republishes every sample of every wire type from
 // "<prefix>/in/<type>" on "<prefix>/out/<type>", decoded and re-encoded by Cyclone on the way.
 // It is the second process of the round-trip test; it ends on SIGTERM, when its parent dies,
-// or after a hard limit, so a crashed test never leaves it behind.
+// or after a hard limit, so a crashed test never leaves it behind. It ends cleanly (deleting its
+// participant) so that peers forget its endpoints at once instead of at lease expiry.
 #include <sys/prctl.h>
 
 #include <csignal>
@@ -24,6 +25,11 @@ namespace {
 using namespace semfuse::dds;
 
 constexpr dds_duration_t kLifetime = DDS_SECS(300);
+// How often the loop looks at the stop flag; a signal handler may not touch DDS itself.
+constexpr dds_duration_t kStopPoll = DDS_MSECS(50);
+
+volatile std::sig_atomic_t stop_requested = 0;
+void requestStop(int) { stop_requested = 1; }
 
 class Echo {
  public:
@@ -66,11 +72,13 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: %s <domain> <topic prefix>\n", argv[0]);
     return 2;
   }
+  std::signal(SIGTERM, requestStop);
+  std::signal(SIGINT, requestStop);
   ::prctl(PR_SET_PDEATHSIG, SIGTERM);
   try {
     const Participant participant(static_cast<dds_domainid_t>(std::atoi(argv[1])));
     const std::string prefix = argv[2];
-    const Qos qos = Qos().reliable(qos::kMaxBlockingTime).keepAll();
+    const Qos qos = Qos().reliable(qos::kMaxBlockingTime).keepAll().transientLocal();
     std::vector<std::unique_ptr<Echo>> echoes;
     semfuse::dds::testing::forEachWireType([&](auto tag) {
       using T = typename decltype(tag)::type;
@@ -81,8 +89,8 @@ int main(int argc, char** argv) {
     std::printf("ready\n");
     std::fflush(stdout);
     const dds_time_t end = dds_time() + kLifetime;
-    while (dds_time() < end) {
-      if (auto woke = waitset.wait(DDS_SECS(1)); !woke) {
+    while (!stop_requested && dds_time() < end) {
+      if (auto woke = waitset.wait(kStopPoll); !woke) {
         std::fprintf(stderr, "echo: %s\n", woke.error().c_str());
         return 1;
       }

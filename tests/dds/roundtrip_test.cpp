@@ -84,9 +84,11 @@ class RoundTrip : public ::testing::Test {
     ASSERT_TRUE(decoded.ok()) << what << ": " << decoded.error();
   }
 
+  // Transient-local on both sides: a writer may see the echo's reader before that reader
+  // knows the writer; history makes a sample written in that window arrive anyway.
   const dds_domainid_t domain_ = testing::testDomain();
   const std::string prefix_ = testing::uniqueName("roundtrip");
-  const Qos qos_ = Qos().reliable(qos::kMaxBlockingTime).keepAll();
+  const Qos qos_ = Qos().reliable(qos::kMaxBlockingTime).keepAll().transientLocal();
   Participant participant_{domain_};
   std::unique_ptr<testing::ChildProcess> echo_;
 };

@@ -12,6 +12,7 @@
 #include <string>
 #include <string_view>
 #include <thread>
+#include <unordered_map>
 #include <utility>
 
 #include <dds/dds.h>
@@ -48,6 +49,11 @@ void setReplyStatus(Reply& reply, int32_t status, std::string_view message) {
 
 // Thread-safe: concurrent call()s on one client are serialised (one request in flight per
 // client); use one client per thread for parallel requests.
+//
+// Discovery is not symmetric in time: our writer may match the server's reader before that
+// reader knows our writer, and a volatile reader drops what it gets from unknown writers. So a
+// request without a reply is sent again (same guid and sequence number) every kResendInterval;
+// the server answers each sequence number once and drops the duplicates.
 template <class Request, class Reply>
 class RpcClient {
  public:
@@ -65,6 +71,8 @@ class RpcClient {
 
   uint64_t guid() const { return guid_; }
 
+  static constexpr dds_duration_t kResendInterval = DDS_MSECS(500);
+
   // Sends the request (its header is filled in here) and waits for the matching reply. The
   // error is about transport (no server, timeout); a server-side failure is a reply whose
   // status is not OK.
@@ -81,10 +89,14 @@ class RpcClient {
     const int64_t sequence = next_sequence_++;
     request.client_guid_ = guid_;
     request.sequence_number_ = sequence;
-    if (Status written = writer_.write(request); !written) {
-      return makeError("request on " + writer_.topicName() + " failed: " + written.error());
-    }
+    dds_time_t resend_at = dds_time();
     for (;;) {
+      if (dds_time() >= resend_at) {
+        if (Status written = writer_.write(request); !written) {
+          return makeError("request on " + writer_.topicName() + " failed: " + written.error());
+        }
+        resend_at = dds_time() + kResendInterval;
+      }
       while (auto reply = reader_.take()) {
         // Other clients' replies and stale ones (from a call that timed out) are dropped.
         if ((*reply)->client_guid_ == guid_ && (*reply)->sequence_number_ == sequence) {
@@ -93,7 +105,8 @@ class RpcClient {
       }
       const dds_duration_t left = remaining();
       if (left <= 0) break;
-      if (auto woke = waitset_.wait(left); !woke) return makeError(woke.error());
+      const dds_duration_t until_resend = std::max<dds_duration_t>(0, resend_at - dds_time());
+      if (auto woke = waitset_.wait(std::min(left, until_resend)); !woke) return makeError(woke.error());
     }
     return makeError("no reply on " + reader_.topicName() + " within " +
                      std::to_string(timeout.count()) + " ms (request " + std::to_string(sequence) +
@@ -145,12 +158,14 @@ class RpcServer {
     thread_.join();
   }
 
+  // Replies written, resent ones included.
   uint64_t served() const { return served_.load(); }
   // Replies that could not be written (e.g. the client vanished and the write timed out).
   uint64_t failedReplies() const { return failed_replies_.load(); }
 
   // How long a reply waits for the client's reply reader to be discovered (see reply()).
   static constexpr dds_duration_t kReplyPathWait = DDS_SECS(2);
+  static constexpr std::size_t kRememberedClients = 4096;
 
  private:
   void run() {
@@ -159,12 +174,39 @@ class RpcServer {
       while (!stop_.triggered()) {
         auto request = reader_.take();
         if (!request) break;
-        reply(**request);
+        handle(**request);
       }
     }
   }
 
-  void reply(const Request& request) {
+  // A resent request (see RpcClient) gets the reply already sent for it, written again (the
+  // first one may have been lost to discovery); an overtaken one gets nothing.
+  void handle(const Request& request) {
+    // Bounded: forgetting old clients only means a very late duplicate is answered twice.
+    if (answered_.size() > kRememberedClients) answered_.clear();
+    auto it = answered_.find(request.client_guid_);
+    if (it != answered_.end() && request.sequence_number_ <= it->second.sequence) {
+      if (request.sequence_number_ == it->second.sequence) send(*it->second.reply);
+      return;
+    }
+    Sample<Reply> answer = reply(request);
+    send(*answer);
+    answered_.insert_or_assign(request.client_guid_, Answered{request.sequence_number_, std::move(answer)});
+  }
+
+  void send(const Reply& answer) {
+    // Discovery is not symmetric in time: a client whose request reached us may not yet be
+    // known as a reader of replies. Each client has one request writer and one reply reader,
+    // so wait (bounded) until the counts agree.
+    writer_.waitForReaders(reader_.matchedWriters(), kReplyPathWait);
+    if (writer_.write(answer)) {
+      ++served_;
+    } else {
+      ++failed_replies_;
+    }
+  }
+
+  Sample<Reply> reply(const Request& request) {
     Sample<Reply> reply;
     try {
       handler_(request, *reply);
@@ -179,16 +221,13 @@ class RpcServer {
     }
     reply->client_guid_ = request.client_guid_;
     reply->sequence_number_ = request.sequence_number_;
-    // Discovery is not symmetric in time: a client whose request reached us may not yet be
-    // known as a reader of replies, and a volatile reply written now would miss it. Each client
-    // has one request writer and one reply reader, so wait until the counts agree.
-    writer_.waitForReaders(reader_.matchedWriters(), kReplyPathWait);
-    if (writer_.write(*reply)) {
-      ++served_;
-    } else {
-      ++failed_replies_;
-    }
+    return reply;
   }
+
+  struct Answered {
+    int64_t sequence;
+    Sample<Reply> reply;
+  };
 
   Topic<Request> request_topic_;
   Topic<Reply> reply_topic_;
@@ -198,6 +237,7 @@ class RpcServer {
   GuardCondition stop_;
   WaitSet waitset_;
   Handler handler_;
+  std::unordered_map<uint64_t, Answered> answered_;  // client guid -> newest reply
   std::atomic<uint64_t> served_{0};
   std::atomic<uint64_t> failed_replies_{0};
   std::thread thread_;
