@@ -1,0 +1,20 @@
+#pragma once
+// Exponential map of se(3). The tracker parameterises a pose update as a twist xi = (v, w)
+// (translation part first) applied on the left, T <- exp(xi) * T, so that the Jacobian of a
+// world-frame residual is taken at the transformed point (Bylow et al., RSS 2013, Sec. III).
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace semfuse::tracking {
+
+using Vector6d = Eigen::Matrix<double, 6, 1>;
+using Matrix6d = Eigen::Matrix<double, 6, 6>;
+
+// exp(xi) for xi = (v, w): rotation exp([w]x), translation V(w) v with the left Jacobian V of
+// SO(3), exact for any angle (the series form is used near zero to avoid 0/0).
+Eigen::Isometry3d expSE3(const Vector6d& xi);
+
+// Rotation angle of a rotation matrix (radians, in [0, pi]), robust to rounding near 0 and pi.
+double rotationAngle(const Eigen::Matrix3d& rotation);
+
+}  // namespace semfuse::tracking

@@ -1,0 +1,46 @@
+#pragma once
+// Parameters of the SDF tracker. Distances that depend on the map are given as fractions of the
+// TSDF truncation, so that one set of defaults works for any voxel size.
+#include <array>
+
+#include "semfuse/tracking/depth_pyramid.hpp"
+
+namespace semfuse::tracking {
+
+enum class RobustLoss {
+  kHuber,   // quadratic up to the scale, linear beyond (convex: safe from a poor start)
+  kCauchy,  // log(1 + (r/c)^2): down-weights gross outliers harder (moving objects, new geometry)
+};
+
+struct TrackerParams {
+  PyramidParams pyramid;
+  // Gauss-Newton iterations per pyramid level, index 0 = finest. The coarse level takes the
+  // large steps cheaply; the finest only polishes.
+  std::array<int, kMaxPyramidLevels> max_iterations{4, 6, 10, 10};
+  // Converged when the update twist is this small (metres and radians together).
+  double convergence_norm = 1e-4;
+
+  RobustLoss loss = RobustLoss::kHuber;
+  float robust_scale = 0.25f;  // x truncation
+  // A point is used only where |D| < band_fraction x truncation: at the truncation limit the
+  // field is flat (no gradient) and tells nothing about where the surface is.
+  float band_fraction = 0.95f;
+  float inlier_fraction = 0.5f;  // |D| below this x truncation counts as an inlier
+  // Levenberg damping added to the Hessian diagonal, relative to its mean; keeps a nearly
+  // degenerate step bounded (the quality checks below still flag the frame).
+  double damping = 1e-4;
+
+  // A frame is LOST, and must not be integrated, below any of these.
+  double min_inlier_ratio = 0.3;    // inliers / valid points of the finest level
+  double max_rms_fraction = 0.35;   // RMS of D over inliers, x truncation
+  std::size_t min_inliers = 200;
+  // Reciprocal condition (min / max eigenvalue) of the 6x6 Hessian with rotations scaled by the
+  // mean scene depth (so both blocks are in metres): a plane or a corridor leaves directions
+  // unconstrained, its min eigenvalue collapses and the pose along them would be noise.
+  double min_hessian_rcond = 2e-3;
+  // Larger corrections than these from the starting guess are treated as divergence.
+  double max_correction_m = 0.3;
+  double max_correction_rad = 0.5;
+};
+
+}  // namespace semfuse::tracking

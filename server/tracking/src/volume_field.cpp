@@ -1,0 +1,24 @@
+#include "semfuse/tracking/volume_field.hpp"
+
+#include "semfuse/volume/volume_sampler.hpp"
+
+namespace semfuse::tracking {
+
+namespace {
+class VolumeFieldSampler final : public SdfSampler {
+ public:
+  explicit VolumeFieldSampler(const volume::LabeledVolume& volume) : sampler_(volume) {}
+  bool sample(const Eigen::Vector3f& world_point, SdfSample& out) override {
+    return sampler_.tsdfAndGradient(world_point, out.distance, out.gradient);
+  }
+
+ private:
+  volume::VolumeSampler sampler_;
+};
+}  // namespace
+
+std::unique_ptr<SdfSampler> VolumeField::makeSampler() const {
+  return std::make_unique<VolumeFieldSampler>(*volume_);
+}
+
+}  // namespace semfuse::tracking
