@@ -1,27 +1,45 @@
 #include "semfuse/client/camera_publisher.hpp"
 
 #include "semfuse/dds/qos.hpp"
-#include "semfuse/dds/sample.hpp"
 #include "semfuse/dds/topic.hpp"
 #include "semfuse/dds/topics.hpp"
 #include "semfuse/dds/writer.hpp"
-#include "wire_convert.hpp"
+#include "semfuse/wire/frame_codec.hpp"
 
 namespace semfuse::client {
 
 using FrameMsg = semfuse_msg_dds__Frame_;
 
+namespace {
+
+wire::FrameEncoding wireEncoding(const CameraPublisherOptions& options) {
+  wire::FrameEncoding encoding;
+  switch (options.depth_encoding) {
+    case DepthEncoding::kRaw16: encoding.depth = "16UC1"; break;
+    case DepthEncoding::kRawFloat: encoding.depth = "32FC1"; break;
+    case DepthEncoding::kPng16: encoding.depth = "png16"; break;
+  }
+  switch (options.color_encoding) {
+    case ColorEncoding::kNone: encoding.color = ""; break;
+    case ColorEncoding::kRaw: encoding.color = "rgb8"; break;
+    case ColorEncoding::kJpeg: encoding.color = "jpeg"; break;
+    case ColorEncoding::kPng: encoding.color = "png"; break;
+  }
+  encoding.jpeg_quality = options.jpeg_quality;
+  return encoding;
+}
+
+}  // namespace
+
 struct CameraPublisher::Impl {
   Impl(const dds::Participant& participant, const CameraPublisherOptions& options)
-      : encoding{options.depth_encoding, options.color_encoding, options.jpeg_quality},
+      : encoding(wireEncoding(options)),
         topic(participant, dds::topics::kFrames),
         writer(topic, dds::qos::frames()) {}
 
   wire::FrameEncoding encoding;
   dds::Topic<FrameMsg> topic;
   dds::Writer<FrameMsg> writer;
-  // Reused between frames: setSequence frees and reallocates, the struct itself stays.
-  dds::Sample<FrameMsg> sample;
   std::size_t last_bytes = 0;
 };
 
@@ -32,9 +50,11 @@ CameraPublisher::CameraPublisher(CameraPublisher&&) noexcept = default;
 CameraPublisher& CameraPublisher::operator=(CameraPublisher&&) noexcept = default;
 
 Status CameraPublisher::publish(const Frame& frame) {
-  if (Status s = wire::encodeFrame(frame, impl_->encoding, *impl_->sample); !s) return s;
-  impl_->last_bytes = impl_->sample->depth._length + impl_->sample->color._length;
-  return impl_->writer.write(*impl_->sample);
+  auto encoded = wire::encodeFrame(frame, impl_->encoding);
+  if (!encoded) return Error{encoded.error()};
+  const FrameMsg& msg = encoded.value().msg();
+  impl_->last_bytes = msg.depth._length + msg.color._length;
+  return impl_->writer.write(msg);
 }
 
 bool CameraPublisher::waitForServer(std::chrono::milliseconds timeout) const {

@@ -8,7 +8,9 @@
 #include "semfuse/dds/topic.hpp"
 #include "semfuse/dds/topics.hpp"
 #include "semfuse/dds/waitset.hpp"
-#include "wire_convert.hpp"
+#include "semfuse/wire/frame_codec.hpp"
+#include "semfuse/wire/message_codecs.hpp"
+#include "reply_decoding.hpp"
 
 namespace semfuse::client {
 namespace {
@@ -62,8 +64,11 @@ struct MapClient::Impl {
 
   void poll() {
     std::lock_guard lock(mutex);
-    while (auto s = status_reader.take()) status = wire::decodeStatus(**s);
-    while (auto l = legend_reader.take()) legend = wire::decodeLegend(**l);
+    while (auto s = status_reader.take()) status = detail::decodeStatus(**s);
+    while (auto l = legend_reader.take()) {
+      // A legend the server should never have sent is kept out rather than half-used.
+      if (auto decoded = wire::decodeLegend(**l)) legend = std::move(decoded).value();
+    }
   }
 
   CallResult<ServerStatus> adminCall(uint8_t command, const std::string& path, Timeout timeout) {
@@ -71,7 +76,7 @@ struct MapClient::Impl {
     request->command = command;
     dds::setString(request->path, path);
     return call<semfuse_srv_dds__Admin_Response_>(admin, request, timeout, [](const auto& r) {
-      return wire::decodeStatus(r.server_status);
+      return detail::decodeStatus(r.server_status);
     });
   }
 
@@ -100,7 +105,7 @@ MapClient::~MapClient() = default;
 CallResult<RaycastImages> MapClient::raycast(const Pose& camera_to_world, const PinholeIntrinsics& intrinsics,
                                              uint32_t layers, Timeout timeout, float max_range) {
   dds::Sample<semfuse_srv_dds__Raycast_Request_> request;
-  wire::poseToArray(camera_to_world, request->camera_to_world);
+  wire::poseToRowMajor(camera_to_world, request->camera_to_world);
   request->intrinsics = {static_cast<uint32_t>(intrinsics.width), static_cast<uint32_t>(intrinsics.height),
                          intrinsics.fx, intrinsics.fy, intrinsics.cx, intrinsics.cy};
   request->layers = layers;
@@ -116,7 +121,7 @@ CallResult<RaycastImages> MapClient::raycast(const Pose& camera_to_world, const 
       {&r.depth, &images.depth}, {&r.normals, &images.normals}, {&r.labels, &images.labels},
       {&r.confidence, &images.confidence}, {&r.color, &images.color}};
   for (const auto& [image, mat] : layers_out) {
-    auto decoded = wire::decodeImage(*image);
+    auto decoded = detail::decodeImage(*image);
     if (!decoded) return {Failure::kClient, "raycast reply: " + decoded.error()};
     *mat = std::move(decoded).value();
   }

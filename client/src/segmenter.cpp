@@ -15,7 +15,8 @@
 #include "semfuse/dds/topics.hpp"
 #include "semfuse/dds/waitset.hpp"
 #include "semfuse/dds/writer.hpp"
-#include "wire_convert.hpp"
+#include "semfuse/wire/frame_codec.hpp"
+#include "semfuse/wire/message_codecs.hpp"
 
 namespace semfuse::client {
 
@@ -65,7 +66,6 @@ struct Segmenter::Impl {
 
   // Worker thread: decode, segment, (delay), publish the newest frame, one at a time.
   void work() {
-    dds::Sample<SegmentationMsg> out;
     for (;;) {
       std::optional<dds::Sample<FrameMsg>> next;
       {
@@ -75,11 +75,11 @@ struct Segmenter::Impl {
         next = std::move(slot);
         slot.reset();
       }
-      process(**next, out);
+      process(**next);
     }
   }
 
-  void process(const FrameMsg& msg, dds::Sample<SegmentationMsg>& out) {
+  void process(const FrameMsg& msg) {
     auto frame = wire::decodeFrame(msg);
     if (!frame) return fail("cannot decode " + frame.error());
     const auto started = std::chrono::steady_clock::now();
@@ -99,9 +99,9 @@ struct Segmenter::Impl {
     }
     spdlog::debug("segmented frame {} of {} in {:.1f} ms", segmentation.frame_seq, segmentation.camera_id, ms);
     if (options.delay.count() > 0) std::this_thread::sleep_for(options.delay);
-    out.clear();
-    if (Status s = wire::encodeSegmentation(segmentation, *out); !s) return fail(s.error());
-    if (Status s = segmentations.write(*out); !s) return fail(s.error());
+    auto encoded = wire::encodeSegmentation(segmentation);
+    if (!encoded) return fail(encoded.error());
+    if (Status s = segmentations.write(encoded.value().msg()); !s) return fail(s.error());
     std::lock_guard lock(mutex);
     ++stats.published;
   }

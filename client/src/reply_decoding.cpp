@@ -1,0 +1,83 @@
+#include "reply_decoding.hpp"
+
+#include <cstring>
+#include <vector>
+
+#include <opencv2/imgproc.hpp>
+
+namespace semfuse::client::detail {
+namespace {
+std::string str(const char* s) { return s ? std::string(s) : std::string(); }
+}  // namespace
+
+Result<cv::Mat> decodeImage(const sensor_msgs_msg_dds__Image_& image) {
+  if (image.width == 0 || image.height == 0) return cv::Mat();
+  const std::string encoding = str(image.encoding);
+  int type = -1;
+  if (encoding == "32FC1") type = CV_32FC1;
+  else if (encoding == "32FC3") type = CV_32FC3;
+  else if (encoding == "16UC1" || encoding == "mono16") type = CV_16UC1;
+  else if (encoding == "8UC1" || encoding == "mono8") type = CV_8UC1;
+  else if (encoding == "rgb8" || encoding == "bgr8" || encoding == "8UC3") type = CV_8UC3;
+  else return makeError("unsupported image encoding '" + encoding + "'");
+  if (image.is_bigendian && CV_ELEM_SIZE1(type) > 1) return makeError("big-endian images are not supported");
+  const int rows = static_cast<int>(image.height);
+  const int cols = static_cast<int>(image.width);
+  const std::size_t row_bytes = static_cast<std::size_t>(cols) * CV_ELEM_SIZE(type);
+  const std::size_t step = image.step == 0 ? row_bytes : image.step;
+  if (step < row_bytes || image.data._length < step * (rows - 1) + row_bytes) {
+    return makeError("image data shorter than its " + std::to_string(cols) + "x" + std::to_string(rows) + " size");
+  }
+  cv::Mat mat(rows, cols, type);
+  for (int r = 0; r < rows; ++r) std::memcpy(mat.ptr(r), image.data._buffer + r * step, row_bytes);
+  if (encoding == "bgr8") cv::cvtColor(mat, mat, cv::COLOR_BGR2RGB);
+  return mat;
+}
+
+namespace {
+std::vector<ReasonCount> counters(const dds_sequence_semfuse_msg_dds__Counter_& seq) {
+  std::vector<ReasonCount> out;
+  for (uint32_t i = 0; i < seq._length; ++i) {
+    out.push_back({str(seq._buffer[i].reason), str(seq._buffer[i].camera_id), seq._buffer[i].count});
+  }
+  return out;
+}
+}  // namespace
+
+ServerStatus decodeStatus(const semfuse_msg_dds__ServerStatus_& msg) {
+  ServerStatus s;
+  s.server_id = str(msg.server_id);
+  s.version = str(msg.version);
+  s.uptime_s = msg.uptime_s;
+  s.frames_received = msg.frames_received;
+  s.frames_integrated = msg.frames_integrated;
+  s.frames_lost = msg.frames_lost;
+  s.segmentations_received = msg.segmentations_received;
+  s.segmentations_integrated = msg.segmentations_integrated;
+  s.dropped = counters(msg.dropped);
+  s.rejected = counters(msg.rejected);
+  s.queued_frames = msg.queued_frames;
+  s.pending_segmentations = msg.pending_segmentations;
+  s.history_frames = msg.history_frames;
+  s.voxel_size = msg.voxel_size;
+  s.truncation = msg.truncation;
+  s.allocated_voxels = msg.allocated_voxels;
+  s.allocated_blocks = msg.allocated_blocks;
+  s.map_bytes = msg.map_bytes;
+  s.rss_bytes = msg.rss_bytes;
+  for (uint32_t i = 0; i < msg.cameras._length; ++i) {
+    const auto& c = msg.cameras._buffer[i];
+    s.cameras.push_back({str(c.camera_id), c.tracking_state, c.last_seq, c.frames_received,
+                         c.frames_integrated, c.frames_lost, c.frame_rate_hz, c.last_frame_age_s, c.stale});
+  }
+  for (uint32_t i = 0; i < msg.last_errors._length; ++i) {
+    const auto& e = msg.last_errors._buffer[i];
+    s.last_errors.push_back({e.stamp.sec + e.stamp.nanosec * 1e-9, str(e.source), str(e.message)});
+  }
+  s.map_file = str(msg.map_file);
+  s.last_save_ok = msg.last_save_ok;
+  s.last_save_age_s = msg.last_save_age_s;
+  return s;
+}
+
+}  // namespace semfuse::client::detail

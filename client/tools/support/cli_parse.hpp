@@ -1,0 +1,20 @@
+#pragma once
+// Command line handling every semfuse client program does the same way: bad usage prints the
+// error and the help text on stderr and exits 2 (CLI11's own default exit code for parse errors
+// is 106 and varies by error, which scripts cannot rely on).
+#include <CLI/App.hpp>
+
+namespace semfuse::tools {
+
+// Parses argv. Returns -1 to go on; otherwise the exit code the program must return now
+// (0 after --help/--version, 2 after a usage error).
+int parseCommandLine(CLI::App& app, int argc, char** argv);
+
+// Adds --log-level and --domain-id (the options every program has).
+struct CommonOptions {
+  std::string log_level;
+  int domain_id = -1;  // -1 = Cyclone's default domain (CYCLONEDDS_URI or 0)
+};
+void addCommonOptions(CLI::App& app, CommonOptions& options);
+
+}  // namespace semfuse::tools

@@ -1,0 +1,18 @@
+#include "stop_signal.hpp"
+
+#include <csignal>
+
+namespace semfuse::tools {
+namespace {
+volatile std::sig_atomic_t g_stop = 0;
+void onSignal(int) { g_stop = 1; }
+}  // namespace
+
+void installStopHandler() {
+  std::signal(SIGINT, onSignal);
+  std::signal(SIGTERM, onSignal);
+}
+
+bool stopRequested() { return g_stop != 0; }
+
+}  // namespace semfuse::tools
