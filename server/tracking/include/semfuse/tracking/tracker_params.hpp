@@ -15,8 +15,10 @@ enum class RobustLoss {
 struct TrackerParams {
   PyramidParams pyramid;
   // Gauss-Newton iterations per pyramid level, index 0 = finest. The coarse level takes the
-  // large steps cheaply; the finest only polishes.
-  std::array<int, kMaxPyramidLevels> max_iterations{4, 6, 10, 10};
+  // large steps cheaply; the finest only polishes. From a large offset (~10 degrees) most points
+  // start outside the truncation band and the few inside pull the pose in over 20-40 small steps;
+  // between consecutive frames the convergence test ends the coarse level after a few.
+  std::array<int, kMaxPyramidLevels> max_iterations{4, 8, 40, 40};
   // Converged when the update twist is this small (metres and radians together).
   double convergence_norm = 1e-4;
 
