@@ -1,0 +1,89 @@
+// Each program's command line: --help succeeds and bad usage prints the help and exits 2.
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+namespace {
+
+struct ProgramRun {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+
+std::string slurp(const std::string& file) {
+  std::ifstream in(file);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// Runs `binary args` with stdout and stderr captured to files (no DDS traffic: every case here
+// fails or finishes before a participant is created, except where noted).
+ProgramRun run(const std::string& binary, const std::string& args) {
+  const std::string base = ::testing::TempDir() + "cli_usage_" + std::to_string(::getpid());
+  const std::string command = binary + " " + args + " > " + base + ".out 2> " + base + ".err < /dev/null";
+  const int status = std::system(command.c_str());
+  ProgramRun r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = slurp(base + ".out");
+  r.err = slurp(base + ".err");
+  return r;
+}
+
+void expectUsageError(const std::string& binary, const std::string& args, const std::string& help_mentions) {
+  const ProgramRun r = run(binary, args);
+  EXPECT_EQ(r.exit_code, 2) << binary << " " << args << "\n" << r.err;
+  EXPECT_NE(r.err.find("Usage:"), std::string::npos) << "no help on stderr for: " << args << "\n" << r.err;
+  EXPECT_NE(r.err.find(help_mentions), std::string::npos) << r.err;
+}
+
+void expectHelp(const std::string& binary, const std::string& mentions) {
+  const ProgramRun r = run(binary, "--help");
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_NE(r.out.find("Usage:"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(mentions), std::string::npos) << r.out;
+}
+
+TEST(CliUsage, CameraHelpAndBadUsage) {
+  expectHelp(SEMFUSE_CAMERA_BIN, "--depth-encoding");
+  expectUsageError(SEMFUSE_CAMERA_BIN, "", "--source");                           // required option missing
+  expectUsageError(SEMFUSE_CAMERA_BIN, "--source synthetic --bogus", "--source");  // unknown option
+  expectUsageError(SEMFUSE_CAMERA_BIN, "--source synthetic --depth-encoding jpeg", "--depth-encoding");
+  expectUsageError(SEMFUSE_CAMERA_BIN, "--source synthetic --rate -3", "--rate");
+  expectUsageError(SEMFUSE_CAMERA_BIN, "--source synthetic --stride 0", "--stride");
+}
+
+TEST(CliUsage, SegmenterHelpAndBadUsage) {
+  expectHelp(SEMFUSE_SEGMENTER_BIN, "--noise-model");
+  expectUsageError(SEMFUSE_SEGMENTER_BIN, "--backend magic", "--backend");
+  expectUsageError(SEMFUSE_SEGMENTER_BIN, "--noise 1.5", "--noise");
+  expectUsageError(SEMFUSE_SEGMENTER_BIN, "--every 0", "--every");
+  expectUsageError(SEMFUSE_SEGMENTER_BIN, "--layout nwch", "--layout");
+  expectUsageError(SEMFUSE_SEGMENTER_BIN, "stray-argument", "--backend");
+}
+
+TEST(CliUsage, QueryHelpAndBadUsage) {
+  expectHelp(SEMFUSE_QUERY_BIN, "raycast");
+  expectUsageError(SEMFUSE_QUERY_BIN, "", "Subcommands:");              // a subcommand is required
+  expectUsageError(SEMFUSE_QUERY_BIN, "teleport", "Subcommands:");      // unknown subcommand
+  expectUsageError(SEMFUSE_QUERY_BIN, "raycast --out x", "--pose");     // the subcommand's help
+  expectUsageError(SEMFUSE_QUERY_BIN, "region --min 0 0 0", "--max");
+  expectUsageError(SEMFUSE_QUERY_BIN, "mesh", "--out");
+  expectUsageError(SEMFUSE_QUERY_BIN, "--timeout 0 status", "--timeout");
+}
+
+TEST(CliUsage, QueryWithoutServerTimesOutWithCode4) {
+  // A domain nobody uses: no server can answer.
+  const ProgramRun r = run(SEMFUSE_QUERY_BIN, "--domain-id 231 --timeout 0.3 objects");
+  EXPECT_EQ(r.exit_code, 4) << r.err;
+  EXPECT_NE(r.err.find("no server"), std::string::npos) << r.err;
+}
+
+}  // namespace

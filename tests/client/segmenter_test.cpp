@@ -1,0 +1,163 @@
+// Segmenter: frames in, the user function's labels out on rt/semfuse/segmentations, and a slow
+// function skips to the newest frame instead of queueing.
+#include <condition_variable>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <opencv2/core.hpp>
+
+#include SEMFUSE_DDS_TEST_ENV
+#include "semfuse/client/camera_publisher.hpp"
+#include "semfuse/client/segmenter.hpp"
+#include "semfuse/dds/participant.hpp"
+#include "semfuse/dds/reader.hpp"
+#include "semfuse/dds/topics.hpp"
+#include "semfuse/wire/message_codecs.hpp"
+
+namespace semfuse::client {
+namespace {
+
+using SegmentationMsg = semfuse_msg_dds__Segmentation_;
+
+Frame flatFrame(uint64_t seq, float depth_m) {
+  Frame f;
+  f.camera_id = "cam";
+  f.seq = seq;
+  f.intrinsics = {32, 24, 30.0, 30.0, 15.5, 11.5};
+  f.depth = cv::Mat(24, 32, CV_32FC1, cv::Scalar(depth_m));
+  return f;
+}
+
+// Polls `done` until it holds or 20 s pass; the bound only guards against a hang, the
+// assertions are on what happened, never on how long it took.
+template <class Predicate>
+bool eventually(Predicate done) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while (!done()) {
+    if (std::chrono::steady_clock::now() > deadline) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  return true;
+}
+
+class SegmenterTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() { dds::testing::useLoopbackConfig(); }
+  dds::Participant participant_{dds::testing::testDomain()};
+};
+
+TEST_F(SegmenterTest, PublishesTheFunctionsLabelsForEachFrame) {
+  dds::Topic<SegmentationMsg> topic(participant_, dds::topics::kSegmentations);
+  dds::Reader<SegmentationMsg> results(topic, dds::qos::segmentations());
+  // Label 2 for the far frame, 1 for the near one: the output must depend on the input.
+  Segmenter segmenter(participant_, [](const Frame& f) -> Result<Segmentation> {
+    Segmentation s;
+    s.labels = cv::Mat(f.depth.size(), CV_16UC1, cv::Scalar(f.depth.at<float>(0, 0) > 1.0F ? 2 : 1));
+    s.confidence = cv::Mat(f.depth.size(), CV_32FC1, cv::Scalar(0.5F));
+    return s;
+  }, {"unit-test-segmenter", "", 1, std::chrono::milliseconds(0)});
+  segmenter.start();
+  CameraPublisher camera(participant_, {DepthEncoding::kRaw16, ColorEncoding::kNone, 90});
+  ASSERT_TRUE(camera.waitForServer(std::chrono::seconds(15)));
+
+  std::vector<Segmentation> received;
+  ASSERT_TRUE(camera.publish(flatFrame(7, 2.0F)).ok());
+  ASSERT_TRUE(eventually([&] {
+    while (auto s = results.take()) received.push_back(wire::decodeSegmentation(**s).value());
+    return !received.empty();
+  }));
+  ASSERT_TRUE(camera.publish(flatFrame(8, 0.5F)).ok());
+  ASSERT_TRUE(eventually([&] {
+    while (auto s = results.take()) received.push_back(wire::decodeSegmentation(**s).value());
+    return received.size() >= 2;
+  }));
+  segmenter.stop();
+
+  ASSERT_EQ(received.size(), 2u);
+  EXPECT_EQ(received[0].frame_seq, 7u);
+  EXPECT_EQ(received[0].camera_id, "cam");
+  EXPECT_EQ(received[0].segmenter_id, "unit-test-segmenter");
+  EXPECT_EQ(received[0].labels.size(), cv::Size(32, 24));
+  EXPECT_EQ(cv::countNonZero(received[0].labels != 2), 0);
+  EXPECT_EQ(received[1].frame_seq, 8u);
+  EXPECT_EQ(cv::countNonZero(received[1].labels != 1), 0);
+  EXPECT_NEAR(received[1].confidence.at<float>(3, 3), 0.5F, 1.0F / 255);
+  const SegmenterStats stats = segmenter.stats();
+  EXPECT_EQ(stats.received, 2u);
+  EXPECT_EQ(stats.published, 2u);
+  EXPECT_EQ(stats.skipped, 0u);
+}
+
+TEST_F(SegmenterTest, ASlowFunctionSkipsToTheNewestFrame) {
+  std::mutex mutex;
+  std::condition_variable changed;
+  bool inside = false;
+  bool release = false;
+  std::vector<uint64_t> segmented;
+  // The first call blocks until the test has delivered four more frames.
+  Segmenter segmenter(participant_, [&](const Frame& f) -> Result<Segmentation> {
+    std::unique_lock lock(mutex);
+    segmented.push_back(f.seq);
+    inside = true;
+    changed.notify_all();
+    changed.wait(lock, [&] { return release; });
+    Segmentation s;
+    s.labels = cv::Mat(f.depth.size(), CV_16UC1, cv::Scalar(3));
+    return s;
+  }, {"slow", "", 1, std::chrono::milliseconds(0)});
+  segmenter.start();
+  CameraPublisher camera(participant_, {DepthEncoding::kRaw16, ColorEncoding::kNone, 90});
+  ASSERT_TRUE(camera.waitForServer(std::chrono::seconds(15)));
+
+  ASSERT_TRUE(camera.publish(flatFrame(0, 1.0F)).ok());
+  {
+    std::unique_lock lock(mutex);
+    ASSERT_TRUE(changed.wait_for(lock, std::chrono::seconds(20), [&] { return inside; }));
+  }
+  for (uint64_t seq = 1; seq <= 4; ++seq) ASSERT_TRUE(camera.publish(flatFrame(seq, 1.0F)).ok());
+  ASSERT_TRUE(eventually([&] { return segmenter.stats().received == 5; }));
+  {
+    std::lock_guard lock(mutex);
+    release = true;
+  }
+  changed.notify_all();
+  ASSERT_TRUE(eventually([&] { return segmenter.stats().published == 2; }));
+  segmenter.stop();
+
+  EXPECT_EQ(segmented, (std::vector<uint64_t>{0, 4}));
+  const SegmenterStats stats = segmenter.stats();
+  EXPECT_EQ(stats.skipped, 3u);
+  EXPECT_EQ(stats.segmented, 2u);
+}
+
+TEST_F(SegmenterTest, EveryNthFrameIsSelected) {
+  std::mutex mutex;
+  std::vector<uint64_t> segmented;
+  Segmenter segmenter(participant_, [&](const Frame& f) -> Result<Segmentation> {
+    std::lock_guard lock(mutex);
+    segmented.push_back(f.seq);
+    Segmentation s;
+    s.labels = cv::Mat(f.depth.size(), CV_16UC1, cv::Scalar(1));
+    return s;
+  }, {"every-third", "", 3, std::chrono::milliseconds(0)});
+  segmenter.start();
+  CameraPublisher camera(participant_, {DepthEncoding::kRaw16, ColorEncoding::kNone, 90});
+  ASSERT_TRUE(camera.waitForServer(std::chrono::seconds(15)));
+  // One at a time, so that the newest-frame rule never skips: only `every` selects.
+  for (uint64_t seq = 10; seq < 17; ++seq) {
+    ASSERT_TRUE(camera.publish(flatFrame(seq, 1.0F)).ok());
+    ASSERT_TRUE(eventually([&] { return segmenter.stats().received == seq - 9; }));
+    ASSERT_TRUE(eventually([&] {
+      const auto s = segmenter.stats();
+      return s.published + s.not_selected == s.received;
+    }));
+  }
+  segmenter.stop();
+  EXPECT_EQ(segmented, (std::vector<uint64_t>{10, 13, 16}));
+  EXPECT_EQ(segmenter.stats().not_selected, 4u);
+}
+
+}  // namespace
+}  // namespace semfuse::client
