@@ -86,5 +86,30 @@ TEST_F(VolumeTracking, ADepthImageFromElsewhereIsNotAccepted) {
   EXPECT_FALSE(aligned.value().ok());
 }
 
+TEST(VolumeDegenerate, FeaturelessPlaneIsLowConfidenceInsteadOfDrifting) {
+  synthetic::LabeledScene scene;
+  synthetic::OrientedBox slab;
+  slab.center = Eigen::Vector3d(0.0, 0.0, -0.1);
+  slab.half_extents = Eigen::Vector3d(20.0, 20.0, 0.1);
+  scene.add({"floor", slab, 1});
+  volume::LabeledVolume map(mapParams());
+  const Eigen::Vector3d target(0.3, 0.2, 0.0);
+  for (const Eigen::Vector3d& eye : {Eigen::Vector3d(0.1, 0.0, 1.5), Eigen::Vector3d(-0.1, 0.1, 1.4)}) {
+    const synthetic::RenderedView view = renderOrDie(scene, synthetic::lookAt(eye, target));
+    ASSERT_TRUE(volume::integrate(map, view.depth, cv::Mat(), view.intrinsics, view.camera_to_world).ok());
+  }
+  const Pose truth = synthetic::lookAt(Eigen::Vector3d(0.0, 0.0, 1.5), target);
+  const synthetic::RenderedView view = renderOrDie(scene, truth);
+  Pose guess = truth;
+  guess.translation() += Eigen::Vector3d(0.03, -0.02, 0.0);  // in the plane: unobservable
+  const VolumeField field(map);
+  SdfTracker tracker;
+  Result<Alignment> aligned = tracker.align(view.depth, view.intrinsics, field, guess);
+  ASSERT_TRUE(aligned.ok()) << aligned.error();
+  EXPECT_EQ(aligned.value().lost_reason, LostReason::kDegenerate);
+  EXPECT_LT(aligned.value().quality.hessian_rcond, tracker.params().min_hessian_rcond);
+  EXPECT_LT(translationError(aligned.value().pose, guess), 0.01);  // did not wander off
+}
+
 }  // namespace
 }  // namespace semfuse::tracking::testing
