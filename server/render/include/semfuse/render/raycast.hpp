@@ -1,0 +1,50 @@
+#pragma once
+// Raycasting a labeled volume from any pinhole camera: per pixel, march the ray through the
+// TSDF, find the first positive-to-negative zero crossing of the trilinear interpolant, and read
+// the layers there. Empty space is skipped with the VDB tree (a ray jumps over whole internal
+// nodes and tiles that hold no leaf), rows run in parallel with TBB.
+#include <cstdint>
+
+#include <opencv2/core/mat.hpp>
+
+#include "semfuse/core/result.hpp"
+#include "semfuse/core/types.hpp"
+#include "semfuse/volume/labeled_volume.hpp"
+
+namespace semfuse::render {
+
+// Which images to produce; combine with |.
+enum RenderLayer : uint32_t {
+  kDepthLayer = 1u << 0,    // CV_32FC1, metres along the camera z axis, 0 = no surface
+  kNormalLayer = 1u << 1,   // CV_32FC3, unit normal from the TSDF gradient, WORLD frame, 0 = none
+  kLabelLayer = 1u << 2,    // CV_16UC1, label of the voxel nearest the surface point, 0 = none
+  kScoreLayer = 1u << 3,    // CV_32FC1, that voxel's label score (Algorithm 1 evidence)
+  kColorLayer = 1u << 4,    // CV_8UC3 RGB, that voxel's colour (needs a volume with colour)
+  kAllLayers = (1u << 5) - 1,
+};
+using RenderLayers = uint32_t;
+
+struct RaycastOptions {
+  RenderLayers layers = kDepthLayer | kNormalLayer | kLabelLayer;
+  double min_depth = 0.1;  // metres along the camera z axis
+  double max_depth = 8.0;
+  // Off: march voxel by voxel through unallocated space (a baseline for benchmarks and a
+  // cross-check in tests; the images are the same).
+  bool skip_empty_space = true;
+};
+
+// Images of the requested layers; the others stay empty.
+struct RaycastImages {
+  cv::Mat depth;
+  cv::Mat normals;
+  cv::Mat labels;
+  cv::Mat scores;
+  cv::Mat color;
+};
+
+// Fails, naming the problem, on intrinsics that do not describe an image, a pose that is not
+// rigid, a bad depth range, an empty layer mask or colour asked of a volume without colour.
+Result<RaycastImages> raycast(const volume::LabeledVolume& volume, const PinholeIntrinsics& intrinsics,
+                              const Pose& camera_to_world, const RaycastOptions& options = {});
+
+}  // namespace semfuse::render

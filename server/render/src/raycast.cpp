@@ -1,0 +1,139 @@
+#include "semfuse/render/raycast.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "ray_marcher.hpp"
+
+namespace semfuse::render {
+namespace {
+
+using detail::MarchRay;
+using detail::RayMarcher;
+
+Status validate(const volume::LabeledVolume& volume, const PinholeIntrinsics& k, const Pose& camera_to_world,
+                const RaycastOptions& options) {
+  if (k.width <= 0 || k.height <= 0)
+    return makeError("raycast image size must be positive, got " + std::to_string(k.width) + "x" +
+                     std::to_string(k.height));
+  if (!(k.fx > 0.0 && k.fy > 0.0 && std::isfinite(k.fx) && std::isfinite(k.fy) && std::isfinite(k.cx) &&
+        std::isfinite(k.cy)))
+    return makeError("raycast intrinsics must have finite, positive focal lengths and a finite principal point");
+  if (!camera_to_world.matrix().allFinite()) return makeError("raycast pose is not finite");
+  const Eigen::Matrix3d r = camera_to_world.linear();
+  if (!(r.transpose() * r).isIdentity(1e-6) || r.determinant() < 0.0)
+    return makeError("raycast pose rotation is not a proper orthonormal matrix");
+  if (!(options.min_depth >= 0.0 && options.max_depth > options.min_depth && std::isfinite(options.max_depth)))
+    return makeError("raycast depth range must satisfy 0 <= min_depth < max_depth < inf");
+  if ((options.layers & kAllLayers) == 0 || (options.layers & ~static_cast<uint32_t>(kAllLayers)) != 0)
+    return makeError("raycast layer mask " + std::to_string(options.layers) + " names no or unknown layers");
+  if ((options.layers & kColorLayer) && !volume.hasColor())
+    return makeError("raycast colour layer requested but the volume keeps no colour");
+  return Status::Ok();
+}
+
+// World box that holds every voxel a trilinear sample could read: the leaves' bounds, widened by
+// the half voxel around each centre and the +1 corner.
+struct WorldBox {
+  Eigen::Vector3d min, max;
+  bool empty = true;
+};
+
+WorldBox allocatedBounds(const volume::LabeledVolume& volume) {
+  openvdb::CoordBBox bbox;
+  WorldBox box;
+  if (!volume.geometryGrid().tree().evalLeafBoundingBox(bbox)) return box;
+  const double s = volume.voxelSize();
+  box.min = Eigen::Vector3d(bbox.min().x(), bbox.min().y(), bbox.min().z()) * s - Eigen::Vector3d::Constant(s);
+  box.max = Eigen::Vector3d(bbox.max().x(), bbox.max().y(), bbox.max().z()) * s + Eigen::Vector3d::Constant(s);
+  box.empty = false;
+  return box;
+}
+
+// Narrows [t_min, t_max) to the part of the ray inside the box; false when it misses.
+bool clipToBox(const WorldBox& box, MarchRay& ray) {
+  for (int axis = 0; axis < 3; ++axis) {
+    const double d = ray.direction[axis], o = ray.origin[axis];
+    if (d == 0.0) {
+      if (o < box.min[axis] || o > box.max[axis]) return false;
+      continue;
+    }
+    double t0 = (box.min[axis] - o) / d, t1 = (box.max[axis] - o) / d;
+    if (t0 > t1) std::swap(t0, t1);
+    ray.t_min = std::max(ray.t_min, t0);
+    ray.t_max = std::min(ray.t_max, t1);
+  }
+  return ray.t_min < ray.t_max;
+}
+
+RaycastImages allocateImages(const PinholeIntrinsics& k, RenderLayers layers) {
+  RaycastImages images;
+  if (layers & kDepthLayer) images.depth = cv::Mat::zeros(k.height, k.width, CV_32FC1);
+  if (layers & kNormalLayer) images.normals = cv::Mat::zeros(k.height, k.width, CV_32FC3);
+  if (layers & kLabelLayer) images.labels = cv::Mat::zeros(k.height, k.width, CV_16UC1);
+  if (layers & kScoreLayer) images.scores = cv::Mat::zeros(k.height, k.width, CV_32FC1);
+  if (layers & kColorLayer) images.color = cv::Mat::zeros(k.height, k.width, CV_8UC3);
+  return images;
+}
+
+// Writes the requested layers of one pixel whose ray meets the surface at t.
+void shadePixel(RayMarcher& marcher, const MarchRay& ray, double t, RenderLayers layers, RaycastImages& images,
+                int u, int v) {
+  volume::VolumeSampler& sampler = marcher.sampler();
+  const Eigen::Vector3f point = (ray.origin + t * ray.direction).cast<float>();
+  if (layers & kDepthLayer) images.depth.at<float>(v, u) = static_cast<float>(t);
+  if (layers & kNormalLayer) {
+    float f;
+    Eigen::Vector3f gradient;
+    if (sampler.tsdfAndGradient(point, f, gradient) && gradient.squaredNorm() > 0.0f) {
+      const Eigen::Vector3f n = gradient.normalized();
+      images.normals.at<cv::Vec3f>(v, u) = cv::Vec3f(n.x(), n.y(), n.z());
+    }
+  }
+  if (layers & (kLabelLayer | kScoreLayer)) {
+    volume::VoxelValue voxel;
+    if (sampler.nearestVoxel(point, voxel)) {
+      if (layers & kLabelLayer) images.labels.at<uint16_t>(v, u) = voxel.label;
+      if (layers & kScoreLayer) images.scores.at<float>(v, u) = voxel.score;
+    }
+  }
+  if (layers & kColorLayer) {
+    volume::Rgb8 rgb;
+    if (sampler.nearestColor(point, rgb)) images.color.at<cv::Vec3b>(v, u) = cv::Vec3b(rgb.r, rgb.g, rgb.b);
+  }
+}
+
+}  // namespace
+
+Result<RaycastImages> raycast(const volume::LabeledVolume& volume, const PinholeIntrinsics& k,
+                              const Pose& camera_to_world, const RaycastOptions& options) {
+  if (Status valid = validate(volume, k, camera_to_world, options); !valid) return makeError(valid.error());
+  RaycastImages images = allocateImages(k, options.layers);
+  const WorldBox bounds = allocatedBounds(volume);
+  if (bounds.empty) return images;
+
+  const Eigen::Matrix3d rotation = camera_to_world.linear();
+  const Eigen::Vector3d origin = camera_to_world.translation();
+  // Rows in small chunks: rays through empty space cost far less than rays through the band, so
+  // fine-grained tasks balance the two cores.
+  tbb::parallel_for(tbb::blocked_range<int>(0, k.height, 4), [&](const tbb::blocked_range<int>& rows) {
+    RayMarcher marcher(volume, options.skip_empty_space);
+    for (int v = rows.begin(); v < rows.end(); ++v) {
+      for (int u = 0; u < k.width; ++u) {
+        MarchRay ray{origin, rotation * Eigen::Vector3d((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0),
+                     options.min_depth, options.max_depth};
+        double t;
+        if (clipToBox(bounds, ray) && marcher.findSurface(ray, t))
+          shadePixel(marcher, ray, t, options.layers, images, u, v);
+      }
+    }
+  });
+  return images;
+}
+
+}  // namespace semfuse::render
