@@ -5,6 +5,7 @@
 #include "semfuse/dds/topics.hpp"
 #include "semfuse/dds/writer.hpp"
 #include "semfuse/wire/frame_codec.hpp"
+#include "server_discovery.hpp"
 
 namespace semfuse::client {
 
@@ -34,10 +35,12 @@ wire::FrameEncoding wireEncoding(const CameraPublisherOptions& options) {
 struct CameraPublisher::Impl {
   Impl(const dds::Participant& participant, const CameraPublisherOptions& options)
       : encoding(wireEncoding(options)),
+        participant(participant),
         topic(participant, dds::topics::kFrames),
         writer(topic, dds::qos::frames()) {}
 
   wire::FrameEncoding encoding;
+  const dds::Participant& participant;
   dds::Topic<FrameMsg> topic;
   dds::Writer<FrameMsg> writer;
   std::size_t last_bytes = 0;
@@ -58,6 +61,14 @@ Status CameraPublisher::publish(const Frame& frame) {
 }
 
 bool CameraPublisher::waitForServer(std::chrono::milliseconds timeout) const {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  const auto server = detail::findServerParticipant(impl_->participant, timeout);
+  if (!server) return false;
+  const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+  return detail::waitForReaderOf(impl_->writer.handle(), *server, std::max(left, std::chrono::milliseconds(0)));
+}
+
+bool CameraPublisher::waitForReader(std::chrono::milliseconds timeout) const {
   return impl_->writer.waitForReaders(1, DDS_MSECS(timeout.count()));
 }
 

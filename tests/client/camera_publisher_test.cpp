@@ -10,6 +10,7 @@
 #include "semfuse/dds/reader.hpp"
 #include "semfuse/dds/topics.hpp"
 #include "semfuse/dds/waitset.hpp"
+#include "semfuse/dds/writer.hpp"
 #include "semfuse/wire/frame_codec.hpp"
 
 namespace semfuse::client {
@@ -47,7 +48,7 @@ class CameraPublisherTest : public ::testing::Test {
     dds::Topic<FrameMsg> topic(participant_, dds::topics::kFrames);
     dds::Reader<FrameMsg> reader(topic, dds::qos::frames());
     CameraPublisher camera(participant_, options);
-    EXPECT_TRUE(camera.waitForServer(std::chrono::seconds(15)));
+    EXPECT_TRUE(camera.waitForReader(std::chrono::seconds(15)));
     EXPECT_EQ(camera.matchedReaders(), 1);
     const Status published = camera.publish(frame);
     EXPECT_TRUE(published.ok()) << published.error();
@@ -118,6 +119,26 @@ TEST_F(CameraPublisherTest, RejectsAFrameThatIsNotDepthInMetres) {
   frame.depth.convertTo(frame.depth, CV_16UC1, 1000.0);
   CameraPublisher camera(participant_, {});
   EXPECT_FALSE(camera.publish(frame).ok());
+}
+
+TEST_F(CameraPublisherTest, WaitsForTheServersReaderNotJustAnyReader) {
+  CameraPublisher camera(participant_, {});
+  // A segmenter-like participant: it reads frames but is no server.
+  dds::Participant segmenter(dds::testing::testDomain());
+  dds::Topic<FrameMsg> segmenter_topic(segmenter, dds::topics::kFrames);
+  dds::Reader<FrameMsg> segmenter_frames(segmenter_topic, dds::qos::frames());
+  ASSERT_TRUE(camera.waitForReader(std::chrono::seconds(15)));
+  EXPECT_FALSE(camera.waitForServer(std::chrono::milliseconds(300)));
+
+  // A server-like participant: it publishes its status and reads frames.
+  dds::Participant server(dds::testing::testDomain());
+  dds::Topic<semfuse_msg_dds__ServerStatus_> status_topic(server, dds::topics::kStatus);
+  dds::Writer<semfuse_msg_dds__ServerStatus_> status(status_topic, dds::qos::status());
+  dds::Sample<semfuse_msg_dds__ServerStatus_> sample;
+  ASSERT_TRUE(status.write(*sample).ok());
+  dds::Topic<FrameMsg> server_topic(server, dds::topics::kFrames);
+  dds::Reader<FrameMsg> server_frames(server_topic, dds::qos::frames());
+  EXPECT_TRUE(camera.waitForServer(std::chrono::seconds(15)));
 }
 
 }  // namespace

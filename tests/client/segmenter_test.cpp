@@ -60,7 +60,7 @@ TEST_F(SegmenterTest, PublishesTheFunctionsLabelsForEachFrame) {
   }, {"unit-test-segmenter", "", 1, std::chrono::milliseconds(0)});
   segmenter.start();
   CameraPublisher camera(participant_, {DepthEncoding::kRaw16, ColorEncoding::kNone, 90});
-  ASSERT_TRUE(camera.waitForServer(std::chrono::seconds(15)));
+  ASSERT_TRUE(camera.waitForReader(std::chrono::seconds(15)));
 
   std::vector<Segmentation> received;
   ASSERT_TRUE(camera.publish(flatFrame(7, 2.0F)).ok());
@@ -109,7 +109,7 @@ TEST_F(SegmenterTest, ASlowFunctionSkipsToTheNewestFrame) {
   }, {"slow", "", 1, std::chrono::milliseconds(0)});
   segmenter.start();
   CameraPublisher camera(participant_, {DepthEncoding::kRaw16, ColorEncoding::kNone, 90});
-  ASSERT_TRUE(camera.waitForServer(std::chrono::seconds(15)));
+  ASSERT_TRUE(camera.waitForReader(std::chrono::seconds(15)));
 
   ASSERT_TRUE(camera.publish(flatFrame(0, 1.0F)).ok());
   {
@@ -144,7 +144,7 @@ TEST_F(SegmenterTest, EveryNthFrameIsSelected) {
   }, {"every-third", "", 3, std::chrono::milliseconds(0)});
   segmenter.start();
   CameraPublisher camera(participant_, {DepthEncoding::kRaw16, ColorEncoding::kNone, 90});
-  ASSERT_TRUE(camera.waitForServer(std::chrono::seconds(15)));
+  ASSERT_TRUE(camera.waitForReader(std::chrono::seconds(15)));
   // One at a time, so that the newest-frame rule never skips: only `every` selects.
   for (uint64_t seq = 10; seq < 17; ++seq) {
     ASSERT_TRUE(camera.publish(flatFrame(seq, 1.0F)).ok());

@@ -61,7 +61,7 @@ void addOptions(CLI::App& app, Options& o) {
       ->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("--seed", o.synthetic.seed, "synthetic: texture and depth-noise seed")->capture_default_str();
   app.add_flag("--depth-noise", o.synthetic.depth_noise, "synthetic: Kinect-like depth noise");
-  app.add_option("--wait-server", o.wait_server_s, "seconds to wait for a server before the first frame")
+  app.add_option("--wait-server", o.wait_server_s, "seconds to wait for a server before the first frame (0 = do not wait; early frames may be lost)")
       ->check(CLI::NonNegativeNumber)->capture_default_str();
   app.add_option("--ack-timeout", o.ack_timeout_s, "seconds to wait at the end until the server has every frame")
       ->check(CLI::NonNegativeNumber)->capture_default_str();
@@ -108,9 +108,9 @@ int run(const Options& o) {
                o.rate_hz > 0 ? fmt::format("{} Hz", o.rate_hz) : std::string("full speed"));
   // A reliable writer keeps nothing for readers it has not discovered yet: frames written before
   // the server's reader is matched would simply be lost.
-  if (!camera.waitForServer(millis(o.wait_server_s))) {
-    spdlog::error("no server is reading {} after {} s (is semfuse-server running on this domain?)",
-                  "rt/semfuse/frames", o.wait_server_s);
+  if (o.wait_server_s > 0 && !camera.waitForServer(millis(o.wait_server_s))) {
+    spdlog::error("no semfuse server is reading rt/semfuse/frames after {} s (is semfuse-server running on "
+                  "this domain?)", o.wait_server_s);
     return tools::kExitTimeout;
   }
 

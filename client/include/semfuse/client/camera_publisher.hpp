@@ -3,7 +3,7 @@
 //
 //   semfuse::dds::Participant participant;
 //   semfuse::client::CameraPublisher camera(participant, {});
-//   camera.waitForServer(std::chrono::seconds(10));   // so the first frames are not lost to discovery
+//   camera.waitForServer(std::chrono::seconds(10));   // so no frame is lost to discovery
 //   camera.publish(frame);                              // depth CV_32FC1 metres, colour CV_8UC3 RGB
 //   camera.waitForAcknowledgements(std::chrono::seconds(5));
 #include <chrono>
@@ -22,6 +22,7 @@ struct CameraPublisherOptions {
   int jpeg_quality = 90;
 };
 
+// The participant must outlive the publisher.
 class CameraPublisher {
  public:
   CameraPublisher(const dds::Participant& participant, CameraPublisherOptions options);
@@ -33,8 +34,11 @@ class CameraPublisher {
   // acknowledge in time (the writer is reliable: a write blocks while the server is behind).
   Status publish(const Frame& frame);
 
-  // True once at least one frames reader (a server) is matched, waiting at most `timeout`.
+  // True once a semfuse server's frames reader is matched, waiting at most `timeout`. A server
+  // is recognised by its status publication: other frames readers (segmenters) do not count.
   bool waitForServer(std::chrono::milliseconds timeout) const;
+  // True once any frames reader is matched (a test's plain reader, a recorder).
+  bool waitForReader(std::chrono::milliseconds timeout) const;
   int matchedReaders() const;
   // Blocks until every written frame was acknowledged by every matched reader, or the timeout.
   Status waitForAcknowledgements(std::chrono::milliseconds timeout) const;
