@@ -117,7 +117,7 @@ void FusionLoop::processFrame(Frame frame) {
     return;
   }
   const FrameOutcome& result = outcome.value();
-  const auto tracking_state = static_cast<uint8_t>(result.pose_source);
+  const auto tracking_state = static_cast<uint8_t>(result.pose_state);
   if (result.integrated) {
     ++state_.frames_integrated;
   } else {

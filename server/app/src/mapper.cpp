@@ -16,12 +16,12 @@ Mapper::Mapper(MapperOptions options, std::unique_ptr<PoseEstimator> estimator)
 
 Result<Pose> Mapper::choosePose(const Frame& frame, CameraTrack& track, FrameOutcome& outcome) {
   if (frame.camera_to_world && !(options_.refine_given_poses && estimator_ && track.has_pose)) {
-    outcome.pose_source = PoseSource::kGiven;
+    outcome.pose_state = PoseState::kGiven;
     return *frame.camera_to_world;
   }
   if (!track.has_pose) {
     if (frame.camera_to_world) {
-      outcome.pose_source = PoseSource::kGiven;
+      outcome.pose_state = PoseState::kGiven;
       return *frame.camera_to_world;
     }
     // The first frame of an empty map defines the world frame; any later camera must say where
@@ -35,7 +35,7 @@ Result<Pose> Mapper::choosePose(const Frame& frame, CameraTrack& track, FrameOut
       return makeError("camera '" + frame.camera_id +
                        "': first frame has no pose, and the map already has a world frame; "
                        "send the first frame of a new camera with its camera_to_world pose");
-    outcome.pose_source = PoseSource::kGiven;
+    outcome.pose_state = PoseState::kGiven;
     return Pose::Identity();
   }
   if (!estimator_) return makeError("frame without pose and the server has no tracker");
@@ -53,12 +53,12 @@ Result<Pose> Mapper::choosePose(const Frame& frame, CameraTrack& track, FrameOut
   outcome.residual = estimate.residual;
   outcome.iterations = estimate.iterations;
   if (!estimate.ok) {
-    outcome.pose_source = PoseSource::kLost;
+    outcome.pose_state = PoseState::kLost;
     outcome.lost_reason = estimate.failure;
     outcome.camera_to_world = guess;
     return guess;
   }
-  outcome.pose_source = refining ? PoseSource::kRefined : PoseSource::kTracked;
+  outcome.pose_state = refining ? PoseState::kRefined : PoseState::kTracked;
   return estimate.camera_to_world;
 }
 
@@ -69,7 +69,7 @@ Result<FrameOutcome> Mapper::integrateFrame(const Frame& frame, const Segmentati
   auto pose = choosePose(frame, candidate, outcome);
   if (!pose.ok()) return Error{pose.error()};
   outcome.camera_to_world = pose.value();
-  if (outcome.pose_source == PoseSource::kLost) {
+  if (outcome.pose_state == PoseState::kLost) {
     // Keep the last good pose and velocity: the next frame starts from there.
     cameras_[frame.camera_id] = candidate;
     return outcome;

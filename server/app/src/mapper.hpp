@@ -24,19 +24,16 @@
 
 namespace semfuse::server {
 
-// How the pose of a frame was obtained; the values are TrackedPose_Constants on the wire.
-enum class PoseSource : uint8_t { kGiven = 0, kTracked = 1, kRefined = 2, kLost = 3 };
-
 struct FrameOutcome {
   bool integrated = false;
-  PoseSource pose_source = PoseSource::kGiven;
+  PoseState pose_state = PoseState::kGiven;
   Pose camera_to_world = Pose::Identity();
   float inlier_ratio = 1.0f;
   float residual = 0.0f;
   uint32_t iterations = 0;
   double track_ms = 0.0;
   double integrate_ms = 0.0;
-  std::string lost_reason;  // why tracking gave up (pose_source == kLost)
+  std::string lost_reason;  // why tracking gave up (pose_state == kLost)
   volume::IntegrationStats stats;
 };
 

@@ -28,6 +28,7 @@ inline constexpr const char* kUnknownFrame = "unknown_frame";      // evicted, l
 inline constexpr const char* kSizeMismatch = "size_mismatch";      // segmentation larger than frame
 inline constexpr const char* kNoPose = "first_frame_without_pose";
 inline constexpr const char* kIntegrationFailed = "integration_failed";
+inline constexpr const char* kInvalidQuery = "invalid_query";     // a query the server refused
 }  // namespace reason
 
 struct CameraActivity {

@@ -1,0 +1,56 @@
+// semfuse-server: owns the labeled TSDF map and serves it over DDS (DESIGN.md section 1).
+#include <csignal>
+#include <cstdio>
+#include <thread>
+
+#include <CLI/CLI.hpp>
+#include <spdlog/spdlog.h>
+
+#include "fusion_server.hpp"
+#include "semfuse/core/cli_config.hpp"
+#include "semfuse/core/logging.hpp"
+
+int main(int argc, char** argv) {
+  semfuse::server::ServerConfig config;
+  CLI::App app{"semfuse-server: fuses RGB-D frames and per-pixel labels from DDS clients into one labeled "
+               "TSDF map (OpenVDB) and answers raycast, label, object, mesh and admin queries."};
+  app.option_defaults()->always_capture_default();
+  std::string log_level;
+  semfuse::addYamlConfig(app);
+  app.add_option("--log-level", log_level,
+                 std::string("log level: ") + semfuse::logLevelNames() + " (default: $SEMFUSE_LOG_LEVEL or info)");
+  semfuse::server::addServerOptions(app, config);
+  CLI11_PARSE(app, argc, argv);
+  if (semfuse::Status ok = semfuse::setupLogging("semfuse-server", log_level); !ok) {
+    std::fprintf(stderr, "semfuse-server: %s\n", ok.error().c_str());
+    return 2;
+  }
+
+  // Signals are turned into a stop request by a dedicated thread (sigwait), so shutdown runs in
+  // normal code: finish queued frames, save the map.
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGINT);
+  sigaddset(&signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+
+  try {
+    semfuse::server::FusionServer server(config);
+    std::thread signal_thread([&] {
+      int received = 0;
+      sigwait(&signals, &received);
+      spdlog::info("signal {}: stopping", received);
+      server.requestStop();
+    });
+    const int code = server.run();
+    if (signal_thread.joinable()) {
+      // run() can also end on its own; wake the signal thread so it can be joined.
+      pthread_kill(signal_thread.native_handle(), SIGTERM);
+      signal_thread.join();
+    }
+    return code;
+  } catch (const std::exception& error) {
+    spdlog::critical("{}", error.what());
+    return 1;
+  }
+}

@@ -1,0 +1,231 @@
+#include "fusion_server.hpp"
+
+#include <cstdlib>
+#include <filesystem>
+#include <stdexcept>
+#include <thread>
+
+#include <spdlog/spdlog.h>
+
+#include "sdf_pose_estimator.hpp"
+#include "semfuse/core/legend_io.hpp"
+#include "semfuse/dds/qos.hpp"
+#include "semfuse/dds/sample.hpp"
+#include "semfuse/dds/topics.hpp"
+#include "semfuse/wire/message_codecs.hpp"
+
+namespace semfuse::server {
+namespace {
+
+// Cyclone reads CYCLONEDDS_URI when the first participant is created: set it first.
+dds_domainid_t prepareDds(const ServerConfig& config) {
+  if (!config.dds_profile.empty()) {
+    const std::filesystem::path profile = std::filesystem::absolute(config.dds_profile);
+    if (!std::filesystem::exists(profile))
+      throw std::runtime_error("--dds-profile " + config.dds_profile + ": no such file");
+    setenv("CYCLONEDDS_URI", ("file://" + profile.string()).c_str(), 1);
+  }
+  return static_cast<dds_domainid_t>(config.domain_id);
+}
+
+LabelLegend legendFor(const ServerConfig& config) {
+  auto legend = resolveLegend(config.legend);
+  if (!legend.ok()) throw std::runtime_error("--legend " + config.legend + ": " + legend.error());
+  LabelLegend result = std::move(legend).value();
+  for (LabelId id : config.background_labels) result.background_ids.push_back(id);
+  std::sort(result.background_ids.begin(), result.background_ids.end());
+  result.background_ids.erase(std::unique(result.background_ids.begin(), result.background_ids.end()),
+                              result.background_ids.end());
+  return result;
+}
+
+MapperOptions mapperOptions(const ServerConfig& config, const LabelLegend& legend) {
+  MapperOptions options;
+  options.volume.voxel_size = config.voxel_size;
+  options.volume.truncation = config.truncation;
+  options.volume.max_weight = config.max_weight;
+  if (config.max_label_score > 0.0f) options.volume.max_label_score = config.max_label_score;
+  options.volume.min_depth = config.min_depth;
+  options.volume.max_depth = config.max_depth;
+  options.volume.integrate_color = config.integrate_color;
+  options.volume.background_labels = legend.background_ids;
+  if (Status ok = options.volume.validate(); !ok) throw std::runtime_error("map parameters: " + ok.error());
+  options.legend = legend;
+  options.refine_given_poses = config.refine_given_poses;
+  return options;
+}
+
+double secondsSince(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+}  // namespace
+
+FusionServer::FusionServer(ServerConfig config)
+    : config_(std::move(config)),
+      legend_(legendFor(config_)),
+      participant_(prepareDds(config_)),
+      frames_(config_.queue_per_camera),
+      pose_topic_(participant_, dds::topics::kPoses),
+      status_topic_(participant_, dds::topics::kStatus),
+      legend_topic_(participant_, dds::topics::kLabels),
+      pose_writer_(pose_topic_, dds::qos::poses()),
+      status_writer_(status_topic_, dds::qos::status()),
+      legend_writer_(legend_topic_, dds::qos::legend()) {
+  mapper_ = std::make_unique<Mapper>(mapperOptions(config_, legend_), std::make_unique<SdfPoseEstimator>());
+
+  if (!config_.map_file.empty() && std::filesystem::exists(config_.map_file)) {
+    if (Status loaded = mapper_->load(config_.map_file); !loaded)
+      throw std::runtime_error("cannot resume from --map " + config_.map_file + ": " + loaded.error() +
+                               " (move the file away to start a new map)");
+    const auto size = mapper_->size();
+    spdlog::info("resumed map {}: {} frames, {} observed voxels", config_.map_file, size.frames_integrated,
+                 size.observed_voxels);
+  }
+
+  FusionLimits limits;
+  limits.history_frames = config_.history_frames;
+  limits.history_bytes = config_.history_megabytes << 20;
+  limits.pending_segmentations = config_.pending_segmentations;
+  limits.pending_timeout = std::chrono::milliseconds(static_cast<int64_t>(config_.pending_timeout_s * 1000));
+  fusion_ = std::make_unique<FusionLoop>(*mapper_, frames_, state_, limits,
+                                         [this](const Frame& f, const FrameOutcome& o) { publishPose(f, o); });
+  ingest_ = std::make_unique<Ingest>(participant_, frames_, *fusion_, state_, legend_);
+  services_ = std::make_unique<Services>(
+      participant_, config_, *mapper_, *fusion_, state_, [this] { return snapshot(); },
+      [this](const std::string& path) { return saveMap(path); });
+}
+
+FusionServer::~FusionServer() {
+  // Order matters: no new input, no queries, then the fusion thread.
+  services_.reset();
+  if (ingest_) ingest_->stop();
+  if (fusion_) fusion_->stop();
+}
+
+int FusionServer::run() {
+  auto encoded_legend = wire::encodeLegend(legend_);
+  if (Status ok = legend_writer_.write(encoded_legend.msg()); !ok) spdlog::warn("legend: {}", ok.error());
+
+  fusion_->start();
+  ingest_->start();
+  spdlog::info("serving on domain {}: voxel {} m, truncation {} m, legend '{}' ({} labels){}", config_.domain_id,
+               config_.voxel_size, config_.truncation, legend_.name, legend_.labels.size(),
+               config_.map_file.empty() ? "" : ", map " + config_.map_file);
+
+  using namespace std::chrono_literals;
+  auto last_status = std::chrono::steady_clock::now() - 1h;
+  auto last_autosave = std::chrono::steady_clock::now();
+  uint64_t published_changes = ~0ull;
+  while (!stop_requested_) {
+    std::this_thread::sleep_for(50ms);
+    const double since_status = secondsSince(last_status);
+    // Once a period, and on change (at most 10 times a second).
+    if (since_status >= config_.status_period_s || (state_.changeCount() != published_changes && since_status >= 0.1)) {
+      published_changes = state_.changeCount();
+      publishStatus();
+      last_status = std::chrono::steady_clock::now();
+    }
+    if (!config_.map_file.empty() && config_.autosave_period_s > 0 &&
+        secondsSince(last_autosave) >= config_.autosave_period_s) {
+      last_autosave = std::chrono::steady_clock::now();
+      if (mapper_->revision() > 0) static_cast<void>(saveMap(config_.map_file));
+    }
+  }
+
+  spdlog::info("shutting down: finishing queued frames");
+  ingest_->stop();
+  for (int i = 0; i < 200 && !fusion_->idle(); ++i) std::this_thread::sleep_for(25ms);
+  fusion_->stop();
+  services_.reset();
+  int exit_code = 0;
+  if (!config_.map_file.empty()) {
+    if (Status saved = saveMap(config_.map_file); !saved) exit_code = 1;
+  }
+  publishStatus();
+  const auto s = snapshot();
+  spdlog::info("frames: {} received, {} integrated, {} lost; segmentations: {} received, {} integrated", s.frames_received,
+               s.frames_integrated, s.frames_lost, s.segmentations_received, s.segmentations_integrated);
+  return exit_code;
+}
+
+Status FusionServer::saveMap(const std::string& path) {
+  if (path.empty()) return makeError("no map file: start the server with --map FILE or give a path");
+  std::lock_guard lock(save_mutex_);
+  const auto start = std::chrono::steady_clock::now();
+  volume::MapExtraMetadata extra{{"server_id", config_.server_id}};
+  Status saved = mapper_->save(path, extra);
+  last_save_ok_ = saved.ok();
+  last_save_ = std::chrono::steady_clock::now();
+  saved_once_ = true;
+  if (!saved) {
+    state_.errors.record("save", saved.error());
+    spdlog::error("saving {} failed: {} (the previous file is intact)", path, saved.error());
+  } else {
+    spdlog::info("saved {} in {:.0f} ms", path, secondsSince(start) * 1000.0);
+  }
+  state_.touch();
+  return saved;
+}
+
+void FusionServer::publishPose(const Frame& frame, const FrameOutcome& outcome) {
+  TrackedPose pose;
+  pose.camera_id = frame.camera_id;
+  pose.seq = frame.seq;
+  pose.stamp = frame.stamp;
+  pose.frame_id = "world";
+  pose.state = outcome.pose_state;
+  pose.integrated = outcome.integrated;
+  pose.camera_to_world = outcome.camera_to_world;
+  pose.inlier_ratio = outcome.inlier_ratio;
+  pose.residual = outcome.residual;
+  pose.iterations = outcome.iterations;
+  pose.track_ms = static_cast<float>(outcome.track_ms);
+  pose.integrate_ms = static_cast<float>(outcome.integrate_ms);
+  auto encoded = wire::encodeTrackedPose(pose);
+  if (Status ok = pose_writer_.write(encoded.msg()); !ok) spdlog::debug("pose: {}", ok.error());
+}
+
+void FusionServer::publishStatus() {
+  dds::Sample<semfuse_msg_dds__ServerStatus_> sample;
+  fillStatusMessage(snapshot(), *sample);
+  if (Status ok = status_writer_.write(*sample); !ok) spdlog::debug("status: {}", ok.error());
+}
+
+StatusSnapshot FusionServer::snapshot() const {
+  StatusSnapshot s;
+  s.server_id = config_.server_id;
+  s.uptime_s = secondsSince(started_);
+  s.frames_received = state_.frames_received;
+  s.frames_integrated = state_.frames_integrated;
+  s.frames_lost = state_.frames_lost;
+  s.segmentations_received = state_.segmentations_received;
+  s.segmentations_integrated = state_.segmentations_integrated;
+  s.dropped = state_.dropped.snapshot();
+  s.rejected = state_.rejected.snapshot();
+  s.queued_frames = static_cast<uint32_t>(frames_.size());
+  s.pending_segmentations = static_cast<uint32_t>(fusion_->pendingSegmentations());
+  s.history_frames = static_cast<uint32_t>(fusion_->historyFrames());
+  s.voxel_size = config_.voxel_size;
+  s.truncation = config_.truncation;
+  const auto size = mapper_->size();
+  s.allocated_voxels = size.allocated_voxels;
+  s.allocated_blocks = size.allocated_blocks;
+  s.map_bytes = size.memory_bytes;
+  s.rss_bytes = currentRssBytes();
+  const auto now = std::chrono::steady_clock::now();
+  for (const auto& [id, activity] : state_.cameras()) {
+    StatusSnapshot::Camera camera{id, activity, 0.0f, false};
+    camera.last_frame_age_s = static_cast<float>(std::chrono::duration<double>(now - activity.last_frame_time).count());
+    camera.stale = camera.last_frame_age_s > config_.camera_stale_after_s;
+    s.cameras.push_back(camera);
+  }
+  s.last_errors = state_.errors.snapshot();
+  s.map_file = config_.map_file;
+  std::lock_guard lock(save_mutex_);
+  s.last_save_ok = last_save_ok_;
+  s.last_save_age_s = saved_once_ ? secondsSince(last_save_) : -1.0;
+  return s;
+}
+
+}  // namespace semfuse::server

@@ -1,0 +1,68 @@
+#pragma once
+// FusionServer: semfuse-server assembled. Owns the DDS participant, the map (Mapper), the
+// ingest and fusion threads, the query services, the status/pose/legend publishers and
+// persistence (resume at start, autosave, save at shutdown).
+#include <atomic>
+#include <chrono>
+#include <memory>
+#include <mutex>
+
+#include "frame_queue.hpp"
+#include "fusion_loop.hpp"
+#include "ingest.hpp"
+#include "mapper.hpp"
+#include "semfuse/dds/participant.hpp"
+#include "semfuse/dds/topic.hpp"
+#include "semfuse/dds/writer.hpp"
+#include "server_config.hpp"
+#include "server_state.hpp"
+#include "services.hpp"
+#include "status_message.hpp"
+
+namespace semfuse::server {
+
+class FusionServer {
+ public:
+  // Throws std::runtime_error with a clear message when it cannot start (bad config, DDS).
+  explicit FusionServer(ServerConfig config);
+  ~FusionServer();
+
+  // Serves until requestStop() (e.g. from a signal handler thread), then shuts down: stops
+  // ingest, lets the fusion thread finish the queued frames, saves the map.
+  int run();
+  void requestStop() { stop_requested_ = true; }
+
+  StatusSnapshot snapshot() const;
+
+ private:
+  void publishStatus();
+  void publishPose(const Frame& frame, const FrameOutcome& outcome);
+  Status saveMap(const std::string& path);
+
+  ServerConfig config_;
+  std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
+  std::atomic<bool> stop_requested_{false};
+
+  LabelLegend legend_;
+  dds::Participant participant_;
+  ServerState state_;
+  FrameQueue frames_;
+  std::unique_ptr<Mapper> mapper_;
+  std::unique_ptr<FusionLoop> fusion_;
+  std::unique_ptr<Ingest> ingest_;
+  std::unique_ptr<Services> services_;
+
+  dds::Topic<semfuse_msg_dds__TrackedPose_> pose_topic_;
+  dds::Topic<semfuse_msg_dds__ServerStatus_> status_topic_;
+  dds::Topic<semfuse_msg_dds__LabelLegend_> legend_topic_;
+  dds::Writer<semfuse_msg_dds__TrackedPose_> pose_writer_;
+  dds::Writer<semfuse_msg_dds__ServerStatus_> status_writer_;
+  dds::Writer<semfuse_msg_dds__LabelLegend_> legend_writer_;
+
+  mutable std::mutex save_mutex_;  // one save at a time (autosave, admin, shutdown)
+  bool last_save_ok_ = true;
+  std::chrono::steady_clock::time_point last_save_{};
+  bool saved_once_ = false;
+};
+
+}  // namespace semfuse::server
