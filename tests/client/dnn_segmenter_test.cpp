@@ -67,6 +67,37 @@ TEST(DnnSegmenter, VocModelOnKitchenFrames) {
   EXPECT_EQ(objects, (std::vector<int>{9, 11})) << "chair (9) and dining table (11) should be the object classes";
 }
 
+TEST(DnnSegmenter, Ade20kTensorflowModelOnAKitchenFrame) {
+  const auto model = testing::sharedDir() / "models" / "ade20k_deeplabv3_mnv2_257_logits.pb";
+  SEMFUSE_REQUIRE_SHARED_DIR(testing::redkitchenDir());
+  SEMFUSE_REQUIRE_SHARED_DIR(model);
+  auto reader = datasets::SevenScenesReader::open(testing::redkitchenDir());
+  ASSERT_TRUE(reader.ok()) << reader.error();
+  DnnOptions options;
+  options.model = model;
+  options.layout = TensorLayout::kNchw;
+  auto created = DnnSegmenter::create(options);
+  ASSERT_TRUE(created.ok()) << created.error();
+  EXPECT_EQ(created.value()->classCount(), 150);
+  auto frame = reader.value().load(0);
+  ASSERT_TRUE(frame.ok()) << frame.error();
+  auto result = created.value()->segment(frame.value());
+  ASSERT_TRUE(result.ok()) << result.error();
+  std::map<int, long> histogram;
+  for (auto it = result.value().labels.begin<uint16_t>(); it != result.value().labels.end<uint16_t>(); ++it) ++histogram[*it];
+  std::vector<std::pair<long, int>> ranked;
+  for (const auto& [label, count] : histogram) ranked.emplace_back(count, label);
+  std::sort(ranked.rbegin(), ranked.rend());
+  for (std::size_t i = 0; i < std::min<std::size_t>(8, ranked.size()); ++i)
+    std::cout << "ADE20K class " << ranked[i].second << ": " << ranked[i].first << " pixels\n";
+  // Measured on frame 0: wall ~45%, then "bar" (78), other, windowpane, floor ~10%, cabinet ~2%.
+  // A kitchen has walls first and floor and cabinets among its real classes.
+  EXPECT_EQ(ranked.front().second, 1) << "wall should be the largest class";
+  const auto share = [&](int label) { return histogram[label] / (640.0 * 480.0); };
+  EXPECT_GT(share(4), 0.05) << "floor";
+  EXPECT_GT(share(11), 0.01) << "cabinet";
+}
+
 TEST(DnnSegmenter, RejectsAFrameWithoutColourAndAMissingModel) {
   DnnOptions missing = vocOptions();
   missing.model = "/nonexistent/model.onnx";
