@@ -68,7 +68,7 @@ class RoundTrip : public ::testing::Test {
  protected:
   static void SetUpTestSuite() { testing::useLoopbackConfig(); }
   void SetUp() override {
-    echo_ = std::make_unique<testing::ChildProcess>(
+    echo_ = std::make_unique<semfuse::testing::ChildProcess>(
         std::vector<std::string>{SEMFUSE_DDS_ECHO, std::to_string(domain_), prefix_});
   }
   void TearDown() override { echo_.reset(); }
@@ -90,7 +90,7 @@ class RoundTrip : public ::testing::Test {
   const std::string prefix_ = testing::uniqueName("roundtrip");
   const Qos qos_ = Qos().reliable(qos::kMaxBlockingTime).keepAll().transientLocal();
   Participant participant_{domain_};
-  std::unique_ptr<testing::ChildProcess> echo_;
+  std::unique_ptr<semfuse::testing::ChildProcess> echo_;
 };
 
 TEST_F(RoundTrip, EveryWireTypeComesBackUnchanged) {

@@ -12,7 +12,7 @@
 
 extern char** environ;
 
-namespace semfuse::dds::testing {
+namespace semfuse::testing {
 
 class ChildProcess {
  public:
@@ -24,22 +24,40 @@ class ChildProcess {
       throw std::runtime_error("cannot start " + args[0]);
     }
   }
-  ~ChildProcess() {
-    ::kill(pid_, SIGTERM);
-    int status = 0;
-    ::waitpid(pid_, &status, 0);
-  }
+  ~ChildProcess() { stop(SIGTERM, 10000); }
   ChildProcess(const ChildProcess&) = delete;
   ChildProcess& operator=(const ChildProcess&) = delete;
 
   // True while the child has not exited.
   bool running() {
-    int status = 0;
-    return ::waitpid(pid_, &status, WNOHANG) == 0;
+    if (exited_) return false;
+    if (::waitpid(pid_, &status_, WNOHANG) == 0) return true;
+    exited_ = true;
+    return false;
   }
+
+  // Sends `signal` and waits up to `timeout_ms` for the exit; returns the exit code, or -1 when
+  // the child had to be killed or died from a signal.
+  int stop(int signal = SIGTERM, int timeout_ms = 20000) {
+    if (!exited_) {
+      ::kill(pid_, signal);
+      for (int waited = 0; waited < timeout_ms && running(); waited += 10) ::usleep(10000);
+      if (!exited_) {
+        ::kill(pid_, SIGKILL);
+        ::waitpid(pid_, &status_, 0);
+        exited_ = true;
+        return -1;
+      }
+    }
+    return WIFEXITED(status_) ? WEXITSTATUS(status_) : -1;
+  }
+
+  pid_t pid() const { return pid_; }
 
  private:
   pid_t pid_ = 0;
+  int status_ = 0;
+  bool exited_ = false;
 };
 
-}  // namespace semfuse::dds::testing
+}  // namespace semfuse::testing

@@ -1,0 +1,250 @@
+// semfuse-server as a real process over loopback DDS: a camera stream of the synthetic room with
+// poses, ground-truth segmentations (every third one late and out of order), bad input of every
+// kind, queries, and a restart from the saved map.
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+
+#include <gtest/gtest.h>
+#include <opencv2/core.hpp>
+
+#include "semfuse/synthetic/synthetic_sequence.hpp"
+#include "semfuse/volume/map_file.hpp"
+#include "semfuse/wire/frame_codec.hpp"
+#include "semfuse/wire/message_codecs.hpp"
+#include "server_harness.hpp"
+
+using namespace semfuse;
+using namespace semfuse::testing;
+using namespace std::chrono_literals;
+
+namespace {
+
+constexpr int kFrames = 36;
+constexpr double kVoxel = 0.02;
+
+synthetic::SequenceConfig sequenceConfig() {
+  synthetic::SequenceConfig config;
+  config.intrinsics = config.intrinsics.scaled(0.5);  // 320x240 keeps the test quick
+  config.trajectory.frame_count = kFrames;
+  config.camera_id = "cam0";
+  return config;
+}
+
+std::vector<std::string> serverArgs(const std::filesystem::path& map) {
+  return {"--legend", "synthetic", "--voxel-size", std::to_string(kVoxel), "--truncation", std::to_string(4 * kVoxel),
+          "--map", map.string(), "--autosave-period", "0", "--pending-timeout", "2", "--queue-per-camera", "64"};
+}
+
+void publishFrame(ServerHarness& h, const Frame& frame) {
+  auto encoded = wire::encodeFrame(frame);
+  ASSERT_TRUE(encoded.ok()) << encoded.error();
+  ASSERT_TRUE(h.frames().write(encoded.value().msg()).ok());
+}
+
+void publishSegmentation(ServerHarness& h, const Segmentation& segmentation) {
+  auto encoded = wire::encodeSegmentation(segmentation);
+  ASSERT_TRUE(encoded.ok()) << encoded.error();
+  ASSERT_TRUE(h.segmentations().write(encoded.value().msg()).ok());
+}
+
+semfuse_srv_dds__Raycast_Request_ raycastRequest(const Pose& pose, const PinholeIntrinsics& k, uint32_t layers) {
+  semfuse_srv_dds__Raycast_Request_ request{};
+  wire::poseToRowMajor(pose, request.camera_to_world);
+  request.intrinsics = {static_cast<uint32_t>(k.width), static_cast<uint32_t>(k.height), k.fx, k.fy, k.cx, k.cy};
+  request.layers = layers;
+  return request;
+}
+
+cv::Mat imageOf(const sensor_msgs_msg_dds__Image_& image, int type) {
+  return cv::Mat(static_cast<int>(image.height), static_cast<int>(image.width), type, image.data._buffer).clone();
+}
+
+class ServerEndToEnd : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() / ("semfuse_e2e_" + std::to_string(::getpid()));
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+  std::filesystem::path dir_;
+};
+
+}  // namespace
+
+TEST_F(ServerEndToEnd, FusesLateSegmentationsAnswersQueriesAndResumesAfterRestart) {
+  const std::filesystem::path map = dir_ / "map.vdb";
+  ServerHarness h(serverTestDomain());
+  h.startServer(serverArgs(map));
+  synthetic::SyntheticSequence sequence(sequenceConfig());
+
+  // Stream: frames paced by the pose the server publishes for each; segmentations of two
+  // frames in three right away, every third one held back and sent later, newest first.
+  std::vector<Segmentation> held;
+  for (int i = 0; i < kFrames; ++i) {
+    auto both = sequence.frameWithGroundTruth(i);
+    ASSERT_TRUE(both.ok()) << both.error();
+    publishFrame(h, both.value().first);
+    ASSERT_TRUE(h.waitPose("cam0", static_cast<uint64_t>(i), 20s)) << "no pose for frame " << i;
+    if (i % 3 == 0)
+      held.push_back(both.value().second);
+    else
+      publishSegmentation(h, both.value().second);
+    if (held.size() == 4 || i == kFrames - 1) {
+      std::reverse(held.begin(), held.end());
+      for (const auto& late : held) publishSegmentation(h, late);
+      held.clear();
+    }
+  }
+
+  auto status = h.waitStatus(
+      [](const auto& s) { return s.frames_integrated == kFrames && s.segmentations_integrated == kFrames; }, 30s);
+  ASSERT_NE(status.get(), nullptr);
+  EXPECT_EQ(status->frames_received, static_cast<uint64_t>(kFrames));
+  EXPECT_EQ(status->frames_integrated, static_cast<uint64_t>(kFrames));
+  EXPECT_EQ(status->segmentations_integrated, static_cast<uint64_t>(kFrames));
+  EXPECT_EQ(counterTotal(status->dropped), 0u);
+  EXPECT_EQ(counterTotal(status->rejected), 0u);
+
+  // Raycast from a pose between two frames: labels agree with the ground truth.
+  const Pose view_pose = sequence.config().trajectory.pose(10.5);
+  const PinholeIntrinsics k = sequence.config().intrinsics;
+  auto request = raycastRequest(view_pose, k, semfuse_srv_dds__Raycast_Request_Constants_LAYER_DEPTH |
+                                                  semfuse_srv_dds__Raycast_Request_Constants_LAYER_LABELS);
+  auto reply = h.raycast().call(request, 20s);
+  ASSERT_TRUE(reply.ok()) << reply.error();
+  ASSERT_EQ(reply.value()->status, 0) << dds::replyMessage(*reply.value());
+  const cv::Mat labels = imageOf(reply.value()->labels, CV_16UC1);
+  auto truth = synthetic::renderView(sequence.scene(), k, view_pose);
+  ASSERT_TRUE(truth.ok());
+  int valid = 0, agree = 0;
+  for (int v = 0; v < labels.rows; ++v)
+    for (int u = 0; u < labels.cols; ++u) {
+      const uint16_t expected = truth.value().labels.at<uint16_t>(v, u);
+      const uint16_t got = labels.at<uint16_t>(v, u);
+      if (expected == 0 || got == 0) continue;
+      ++valid;
+      agree += expected == got;
+    }
+  ASSERT_GT(valid, labels.rows * labels.cols / 2);
+  EXPECT_GE(static_cast<double>(agree) / valid, 0.95) << agree << " of " << valid;
+
+  // Save through the admin service; every surface voxel of the saved map against the scene.
+  semfuse_srv_dds__Admin_Request_ save{};
+  save.command = semfuse_srv_dds__Admin_Request_Constants_SAVE;
+  save.path = const_cast<char*>("");
+  auto saved = h.admin().call(save, 30s);
+  ASSERT_TRUE(saved.ok()) << saved.error();
+  ASSERT_EQ(saved.value()->status, 0) << dds::replyMessage(*saved.value());
+  auto loaded = volume::loadMap(map);
+  ASSERT_TRUE(loaded.ok()) << loaded.error();
+  const auto& volume = loaded.value().volume;
+  uint64_t surface = 0, correct = 0;
+  for (auto it = volume.geometryGrid().cbeginValueOn(); it; ++it) {
+    const auto voxel = volume::unpackVoxel(*it);
+    if (!it.isVoxelValue() || voxel.weight <= 0 || std::abs(voxel.tsdf) >= 0.5 * kVoxel) continue;
+    ++surface;
+    correct += voxel.label == sequence.scene().nearestSurface(volume.indexToWorld(it.getCoord())).label;
+  }
+  ASSERT_GT(surface, 10000u);
+  EXPECT_GE(static_cast<double>(correct) / surface, 0.98) << correct << " of " << surface;
+
+  // Restart from the same map: the same view renders the same depth and labels, bit for bit.
+  auto before = h.raycast().call(request, 20s);
+  ASSERT_TRUE(before.ok());
+  EXPECT_EQ(h.stopServer(), 0);
+  h.startServer(serverArgs(map));
+  auto after = h.raycast().call(request, 20s);
+  ASSERT_TRUE(after.ok()) << after.error();
+  ASSERT_EQ(after.value()->status, 0) << dds::replyMessage(*after.value());
+  const cv::Mat depth_before = imageOf(before.value()->depth, CV_32FC1), depth_after = imageOf(after.value()->depth, CV_32FC1);
+  EXPECT_EQ(cv::norm(depth_before, depth_after, cv::NORM_INF), 0.0);
+  EXPECT_EQ(cv::countNonZero(imageOf(before.value()->labels, CV_16UC1) != imageOf(after.value()->labels, CV_16UC1)), 0);
+}
+
+TEST_F(ServerEndToEnd, RejectsBadInputCountsItAndKeepsServing) {
+  ServerHarness h(serverTestDomain());
+  h.startServer(serverArgs(dir_ / "bad.vdb"));
+  synthetic::SyntheticSequence sequence(sequenceConfig());
+  auto both = sequence.frameWithGroundTruth(0);
+  ASSERT_TRUE(both.ok());
+  const Frame& good = both.value().first;
+  publishFrame(h, good);
+  ASSERT_TRUE(h.waitPose("cam0", 0, 20s));
+
+  {  // depth payload shorter than width * height * 2
+    auto encoded = wire::encodeFrame(good, {"16UC1"});
+    ASSERT_TRUE(encoded.ok());
+    encoded.value().msg().seq = 1;
+    encoded.value().msg().depth._length -= 2;
+    ASSERT_TRUE(h.frames().write(encoded.value().msg()).ok());
+  }
+  {  // NaN in the pose
+    Frame nan_pose = good;
+    nan_pose.seq = 2;
+    auto encoded = wire::encodeFrame(nan_pose);
+    ASSERT_TRUE(encoded.ok());
+    encoded.value().msg().camera_to_world[3] = std::nan("");
+    ASSERT_TRUE(h.frames().write(encoded.value().msg()).ok());
+  }
+  {  // unknown depth encoding
+    Frame odd = good;
+    odd.seq = 3;
+    auto encoded = wire::encodeFrame(odd);
+    ASSERT_TRUE(encoded.ok());
+    encoded.value().msg().depth_encoding = const_cast<char*>("depth-as-gif");
+    ASSERT_TRUE(h.frames().write(encoded.value().msg()).ok());
+  }
+  {  // segmentation for a camera that never sent a frame
+    Segmentation stranger = both.value().second;
+    stranger.camera_id = "nobody";
+    publishSegmentation(h, stranger);
+  }
+  {  // label id outside the synthetic legend (1..8)
+    Segmentation out_of_range = both.value().second;
+    out_of_range.labels = out_of_range.labels.clone();
+    out_of_range.labels.at<uint16_t>(5, 5) = 99;
+    publishSegmentation(h, out_of_range);
+  }
+  {  // absurd raycast resolution
+    auto request = raycastRequest(*good.camera_to_world, {100000, 100000, 500, 500, 50000, 50000},
+                                  semfuse_srv_dds__Raycast_Request_Constants_LAYER_DEPTH);
+    auto reply = h.raycast().call(request, 20s);
+    ASSERT_TRUE(reply.ok()) << reply.error();
+    EXPECT_EQ(reply.value()->status, semfuse_srv_dds__Status_Constants_TOO_LARGE);
+    EXPECT_NE(std::string(dds::replyMessage(*reply.value())).find("100000x100000"), std::string::npos);
+  }
+
+  auto status = h.waitStatus(
+      [](const auto& s) {
+        return counterOf(s.rejected, "invalid_frame") >= 3 && counterOf(s.rejected, "unknown_camera") >= 1 &&
+               counterOf(s.rejected, "label_out_of_legend") >= 1 && counterOf(s.rejected, "invalid_query") >= 1;
+      },
+      30s);
+  ASSERT_NE(status.get(), nullptr);
+  EXPECT_EQ(counterOf(status->rejected, "invalid_frame"), 3u);
+  EXPECT_EQ(counterOf(status->rejected, "unknown_camera"), 1u);
+  EXPECT_EQ(counterOf(status->rejected, "label_out_of_legend"), 1u);
+  EXPECT_EQ(counterOf(status->rejected, "invalid_query"), 1u);
+  EXPECT_EQ(status->frames_received, 4u);
+  EXPECT_EQ(status->frames_integrated, 1u);
+  // Each rejection left a precise message in the status.
+  std::string errors;
+  for (uint32_t i = 0; i < status->last_errors._length; ++i) errors += std::string(status->last_errors._buffer[i].message) + "\n";
+  EXPECT_NE(errors.find("depth"), std::string::npos) << errors;
+  EXPECT_NE(errors.find("99"), std::string::npos) << errors;
+  EXPECT_NE(errors.find("nobody"), std::string::npos) << errors;
+
+  // Still serving: a good frame is integrated and a normal raycast answered.
+  Frame next = good;
+  next.seq = 4;
+  publishFrame(h, next);
+  ASSERT_TRUE(h.waitPose("cam0", 4, 20s));
+  auto request = raycastRequest(*good.camera_to_world, good.intrinsics, semfuse_srv_dds__Raycast_Request_Constants_LAYER_DEPTH);
+  auto reply = h.raycast().call(request, 20s);
+  ASSERT_TRUE(reply.ok()) << reply.error();
+  EXPECT_EQ(reply.value()->status, 0) << dds::replyMessage(*reply.value());
+  EXPECT_TRUE(h.serverRunning());
+}
