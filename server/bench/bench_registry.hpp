@@ -1,0 +1,34 @@
+#pragma once
+// Self-registration of semfuse-bench subcommands. A bench file declares, at namespace scope,
+//
+//   const bool registered = semfuse::bench::registerBench("render", "raycast and mesh timings",
+//       [](CLI::App& command) {
+//         auto options = std::make_shared<RenderOptions>();
+//         command.add_option("--frames", options->frames, "frames to render");
+//         return [options] { return runRenderBench(*options); };  // exit code
+//       });
+//
+// main() creates one CLI11 subcommand per registration, lets the setup declare its options, and
+// runs the chosen one after parsing.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+namespace semfuse::bench {
+
+using BenchRun = std::function<int()>;                  // runs the benchmark, returns the exit code
+using BenchSetup = std::function<BenchRun(CLI::App&)>;  // declares options, returns the run
+
+struct BenchRegistration {
+  std::string name;
+  std::string description;
+  BenchSetup setup;
+};
+
+// Always returns true, so that it can initialise a namespace-scope constant.
+bool registerBench(std::string name, std::string description, BenchSetup setup);
+const std::vector<BenchRegistration>& registeredBenches();
+
+}  // namespace semfuse::bench
