@@ -64,6 +64,19 @@ TEST_F(CameraTracking, GivenPoseIsUsedAsItIs) {
   EXPECT_TRUE(out.value().pose.isApprox(off));
 }
 
+TEST_F(CameraTracking, SlightlyNonRigidGivenPoseIsSnappedToTheNearestRotation) {
+  // As 7-Scenes pose files are: a rotation perturbed by ~1e-3.
+  Pose file_pose = pathPose(0);
+  file_pose.linear() += 1e-3 * Eigen::Matrix3d::Ones();
+  Frame frame = frameAt(pathPose(0), false);
+  frame.camera_to_world = file_pose;
+  Result<TrackedFrame> out = trackFrame(tracker_, frame, field_, state_);
+  ASSERT_TRUE(out.ok()) << out.error();
+  const Eigen::Matrix3d r = out.value().pose.linear();
+  EXPECT_LT((r.transpose() * r - Eigen::Matrix3d::Identity()).norm(), 1e-12);
+  EXPECT_LT(rotationErrorDeg(out.value().pose, pathPose(0)), 0.2);
+}
+
 TEST_F(CameraTracking, GivenPoseIsRefinedOnRequest) {
   Frame frame = frameAt(pathPose(0), false);
   Pose off = pathPose(0);

@@ -134,6 +134,7 @@ Result<Alignment> SdfTracker::align(const cv::Mat& depth, const PinholeIntrinsic
     }
   }
 
+  pose = orthonormalized(pose);  // ~20 float-precision updates leave it slightly off SO(3)
   result.pose = pose;
   result.quality = assess(accumulate(pyramid_.points(0), samplers, model, pose));
   result.quality.iterations = iterations;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/SVD>
+
 namespace semfuse::tracking {
 
 namespace {
@@ -32,6 +34,15 @@ Eigen::Isometry3d expSE3(const Vector6d& xi) {
                            : Eigen::Matrix3d::Identity();
   T.translation() = (Eigen::Matrix3d::Identity() + a * W + b * W * W) * v;
   return T;
+}
+
+Eigen::Isometry3d orthonormalized(const Eigen::Isometry3d& pose) {
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(pose.linear(), Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d u = svd.matrixU();
+  if ((u * svd.matrixV().transpose()).determinant() < 0.0) u.col(2) *= -1.0;  // a rotation, not a reflection
+  Eigen::Isometry3d out = pose;
+  out.linear() = u * svd.matrixV().transpose();
+  return out;
 }
 
 double rotationAngle(const Eigen::Matrix3d& rotation) {

@@ -14,6 +14,11 @@ using Matrix6d = Eigen::Matrix<double, 6, 6>;
 // SO(3), exact for any angle (the series form is used near zero to avoid 0/0).
 Eigen::Isometry3d expSE3(const Vector6d& xi);
 
+// The rigid transform nearest to `pose` (rotation projected onto SO(3) by SVD). Poses from files
+// (7-Scenes stores 4x4 matrices with ~1e-3 of non-orthogonality) and long products of updates
+// drift off SO(3); integrators and inverses assume they do not.
+Eigen::Isometry3d orthonormalized(const Eigen::Isometry3d& pose);
+
 // Rotation angle of a rotation matrix (radians, in [0, pi]), robust to rounding near 0 and pi.
 double rotationAngle(const Eigen::Matrix3d& rotation);
 

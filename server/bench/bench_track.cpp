@@ -1,0 +1,186 @@
+// semfuse-bench track: camera tracking by SDF alignment (issue 4's evaluation).
+//  - 7-Scenes redkitchen: the first frame is placed at its reference pose, every later frame is
+//    tracked from depth alone against the map built from the tracked poses, and the trajectory is
+//    compared with the reference (KinectFusion) poses.
+//  - Synthetic room: the same loop on exact rendered depth, where the true poses are known.
+// Frames are decoded / rendered outside the timed region; "tracking" is one trackFrame() call
+// (pyramid, alignment, quality checks), "integration" one integrate() call.
+#include <algorithm>
+#include <cstdio>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bench_registry.hpp"
+#include "bench_support.hpp"
+#include "semfuse/datasets/seven_scenes.hpp"
+#include "semfuse/synthetic/synthetic_sequence.hpp"
+#include "semfuse/tracking/camera_tracking.hpp"
+#include "semfuse/tracking/trajectory_metrics.hpp"
+#include "semfuse/tracking/volume_field.hpp"
+#include "semfuse/volume/integrator.hpp"
+
+namespace semfuse::bench {
+namespace {
+
+struct TrackBenchOptions {
+  std::string data = redkitchenDir().string();
+  std::size_t frames = 500;
+  double voxel = 0.01;
+  double truncation = 0.05;
+  int synthetic_frames = 300;
+  bool skip_seven_scenes = false;
+  bool skip_synthetic = false;
+  bool verbose = false;
+};
+
+// Produces frame i (depth + reference pose), or an error.
+using FrameSource = std::function<Result<Frame>(std::size_t)>;
+
+struct RunResult {
+  std::vector<Pose> estimate, reference;
+  Timings tracking, integration;
+  std::size_t lost = 0;
+  std::size_t frames = 0;
+};
+
+Result<RunResult> trackSequence(const FrameSource& source, std::size_t frames, const volume::VolumeParams& params,
+                                bool verbose) {
+  RunResult run;
+  volume::LabeledVolume map(params);
+  const tracking::VolumeField field(map);
+  tracking::SdfTracker tracker;
+  tracking::CameraTrackState state;
+  for (std::size_t i = 0; i < frames; ++i) {
+    Result<Frame> loaded = source(i);
+    if (!loaded) return makeError("frame " + std::to_string(i) + ": " + loaded.error());
+    Frame frame = std::move(loaded).value();
+    if (!frame.camera_to_world) return makeError("frame " + std::to_string(i) + " has no reference pose");
+    const Pose reference = *frame.camera_to_world;
+    if (i == 0) {
+      state.initial_pose = reference;  // the only reference pose the tracker ever sees
+    }
+    frame.camera_to_world.reset();
+
+    Stopwatch track_watch;
+    Result<tracking::TrackedFrame> tracked = tracking::trackFrame(tracker, frame, field, state);
+    const double track_ms = track_watch.elapsedMs();
+    if (!tracked) return makeError("frame " + std::to_string(i) + ": " + tracked.error());
+    const tracking::TrackedFrame& t = tracked.value();
+    if (i > 0) run.tracking.add(track_ms);
+    if (t.shouldIntegrate()) {
+      Stopwatch integrate_watch;
+      auto stats = volume::integrate(map, frame.depth, cv::Mat(), frame.intrinsics, t.pose);
+      run.integration.add(integrate_watch.elapsedMs());
+      if (!stats) return makeError("integrate frame " + std::to_string(i) + ": " + stats.error());
+    } else {
+      ++run.lost;
+    }
+    if (verbose || !t.shouldIntegrate())
+      std::printf("frame %3zu %-11s %-20s inliers %.2f rms %.2f mm rcond %.1e iters %2d %.1f ms  err %.1f mm\n", i,
+                  tracking::toString(t.status), tracking::toString(t.lost_reason), t.quality.inlier_ratio,
+                  t.quality.rms_residual_m * 1e3, t.quality.hessian_rcond, t.quality.iterations, track_ms,
+                  (t.pose.translation() - reference.translation()).norm() * 1e3);
+    run.estimate.push_back(t.pose);
+    run.reference.push_back(reference);
+    ++run.frames;
+  }
+  return run;
+}
+
+int report(const std::string& title, const RunResult& run, const std::string& ate_target, bool drift) {
+  auto raw = tracking::absoluteTrajectoryError(run.estimate, run.reference, false);
+  auto aligned = tracking::absoluteTrajectoryError(run.estimate, run.reference, true);
+  auto rpe = tracking::relativePoseError(run.estimate, run.reference);
+  if (!raw || !aligned || !rpe) {
+    std::fprintf(stderr, "%s: not enough frames for the metrics\n", title.c_str());
+    return 1;
+  }
+  const double path = tracking::pathLength(run.reference);
+  Table table(title);
+  table.add("frames (tracked from frame 1)", std::to_string(run.frames));
+  table.add("ATE RMSE, no alignment", formatNumber(raw.value().rmse_m * 100, 2) + " cm",
+            ate_target + "; max " + formatNumber(raw.value().max_m * 100, 2) + " cm");
+  table.add("ATE RMSE, Umeyama-aligned", formatNumber(aligned.value().rmse_m * 100, 2) + " cm");
+  table.add("RPE per frame, translation", formatNumber(rpe.value().translation_rmse_m * 1000, 2) + " mm",
+            "RMSE; max " + formatNumber(rpe.value().translation_max_m * 1000, 2) + " mm");
+  table.add("RPE per frame, rotation", formatNumber(rpe.value().rotation_rmse_deg, 3) + " deg",
+            "RMSE; max " + formatNumber(rpe.value().rotation_max_deg, 3) + " deg");
+  if (drift) {
+    const double end_error = (run.estimate.back().translation() - run.reference.back().translation()).norm();
+    table.add("path length", formatNumber(path, 2) + " m");
+    table.add("drift per metre (end error / path)", formatNumber(end_error / path * 100, 3) + " %",
+              "end error " + formatNumber(end_error * 1000, 2) + " mm");
+  }
+  table.add("frames lost", std::to_string(run.lost), "target 0");
+  table.addMs("tracking ms/frame", run.tracking, "target median <= 15 ms (640x480)");
+  table.addMs("integration ms/frame", run.integration, "at the tracked pose");
+  table.print();
+  return 0;
+}
+
+int runTrackBench(const TrackBenchOptions& options) {
+  volume::VolumeParams params;
+  params.voxel_size = options.voxel;
+  params.truncation = options.truncation;
+  params.integrate_color = false;
+  if (Status status = params.validate(); !status) {
+    std::fprintf(stderr, "volume parameters: %s\n", status.error().c_str());
+    return 2;
+  }
+  std::printf("voxel %.3f m, truncation %.3f m, tracker defaults (3 levels, <= 6000 points per level)\n",
+              options.voxel, options.truncation);
+
+  int exit_code = 0;
+  if (!options.skip_seven_scenes) {
+    auto reader = datasets::SevenScenesReader::open(options.data);
+    if (!reader) {
+      std::fprintf(stderr, "7-Scenes: %s\n", reader.error().c_str());
+      return 2;
+    }
+    const datasets::SevenScenesReader& r = reader.value();
+    const std::size_t frames = std::min(options.frames, r.count());
+    auto run = trackSequence([&r](std::size_t i) { return r.loadDepthOnly(i); }, frames, params, options.verbose);
+    if (!run) {
+      std::fprintf(stderr, "7-Scenes: %s\n", run.error().c_str());
+      return 1;
+    }
+    exit_code |= report("tracking: 7-Scenes redkitchen frames 0-" + std::to_string(frames - 1) +
+                            " vs reference poses",
+                        run.value(), "target <= 3 cm", false);
+  }
+  if (!options.skip_synthetic) {
+    synthetic::SequenceConfig config;
+    config.trajectory.frame_count = options.synthetic_frames;
+    const synthetic::SyntheticSequence sequence(config);
+    auto run = trackSequence([&sequence](std::size_t i) { return sequence.frame(static_cast<int>(i)); },
+                             static_cast<std::size_t>(sequence.frameCount()), params, options.verbose);
+    if (!run) {
+      std::fprintf(stderr, "synthetic: %s\n", run.error().c_str());
+      return 1;
+    }
+    exit_code |= report("tracking: synthetic room, exact depth, " + std::to_string(sequence.frameCount()) +
+                            " frames vs true poses",
+                        run.value(), "target <= 1 cm", true);
+  }
+  return exit_code;
+}
+
+const bool registered = registerBench(
+    "track", "camera tracking by SDF alignment: ATE/RPE on 7-Scenes and the synthetic room", [](CLI::App& command) {
+      auto options = std::make_shared<TrackBenchOptions>();
+      command.add_option("--data", options->data, "7-Scenes sequence folder")->capture_default_str();
+      command.add_option("--frames", options->frames, "7-Scenes frames to track (from frame 0)")->capture_default_str();
+      command.add_option("--voxel", options->voxel, "voxel size, metres")->capture_default_str();
+      command.add_option("--trunc", options->truncation, "truncation, metres")->capture_default_str();
+      command.add_option("--synthetic-frames", options->synthetic_frames, "frames of the synthetic orbit")
+          ->capture_default_str();
+      command.add_flag("--skip-7scenes", options->skip_seven_scenes, "only the synthetic room");
+      command.add_flag("--skip-synthetic", options->skip_synthetic, "only 7-Scenes");
+      command.add_flag("--verbose", options->verbose, "one line per frame (lost frames are always printed)");
+      return [options] { return runTrackBench(*options); };
+    });
+
+}  // namespace
+}  // namespace semfuse::bench
