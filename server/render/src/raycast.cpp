@@ -26,7 +26,8 @@ Status validate(const volume::LabeledVolume& volume, const PinholeIntrinsics& k,
     return makeError("raycast intrinsics must have finite, positive focal lengths and a finite principal point");
   if (!camera_to_world.matrix().allFinite()) return makeError("raycast pose is not finite");
   const Eigen::Matrix3d r = camera_to_world.linear();
-  if (!(r.transpose() * r).isIdentity(1e-6) || r.determinant() < 0.0)
+  // Poses read from text files (7-Scenes) are orthonormal to ~1e-4 only; that is still a rotation.
+  if (!(r.transpose() * r).isIdentity(1e-3) || r.determinant() < 0.0)
     return makeError("raycast pose rotation is not a proper orthonormal matrix");
   if (!(options.min_depth >= 0.0 && options.max_depth > options.min_depth && std::isfinite(options.max_depth)))
     return makeError("raycast depth range must satisfy 0 <= min_depth < max_depth < inf");
