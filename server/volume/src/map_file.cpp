@@ -1,13 +1,257 @@
 #include "semfuse/volume/map_file.hpp"
 
-namespace semfuse::volume {
+#include <fcntl.h>
+#include <unistd.h>
 
-Status saveMap(const LabeledVolume&, const LabelLegend&, const std::filesystem::path& path, const MapExtraMetadata&) {
-  return makeError("saveMap(" + path.string() + "): map files are not implemented yet");
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include <openvdb/io/Stream.h>
+
+#include "map_layers.hpp"
+
+namespace semfuse::volume {
+namespace {
+namespace fs = std::filesystem;
+const char* const kExtraPrefix = "extra:";
+
+// --- metadata <-> params, legend ----------------------------------------------------------
+
+std::string joinIds(const std::vector<LabelId>& ids) {
+  std::string out;
+  for (LabelId id : ids) out += (out.empty() ? "" : " ") + std::to_string(id);
+  return out;
 }
 
-Result<LoadedMap> loadMap(const std::filesystem::path& path) {
-  return makeError("loadMap(" + path.string() + "): map files are not implemented yet");
+Result<std::vector<LabelId>> parseIds(const std::string& text, const std::string& what) {
+  std::istringstream in(text);
+  std::vector<LabelId> ids;
+  long value = 0;
+  while (in >> value) {
+    if (value < 0 || value > 65535) return makeError(what + ": label id " + std::to_string(value) + " out of range");
+    ids.push_back(static_cast<LabelId>(value));
+  }
+  if (!in.eof()) return makeError(what + ": not a list of label ids");
+  return ids;
+}
+
+// One label per line: "id r g b name" (the name is the rest of the line).
+Result<std::string> encodeLegend(const LabelLegend& legend) {
+  std::string out;
+  for (const LabelInfo& info : legend.labels) {
+    if (info.name.find('\n') != std::string::npos)
+      return makeError("legend: label " + std::to_string(info.id) + " has a newline in its name");
+    out += std::to_string(info.id) + " " + std::to_string(info.rgb[0]) + " " + std::to_string(info.rgb[1]) + " " +
+           std::to_string(info.rgb[2]) + " " + info.name + "\n";
+  }
+  return out;
+}
+
+Result<std::vector<LabelInfo>> decodeLegend(const std::string& text) {
+  std::vector<LabelInfo> labels;
+  std::istringstream lines(text);
+  std::string line;
+  while (std::getline(lines, line)) {
+    std::istringstream in(line);
+    long id = -1, r = -1, g = -1, b = -1;
+    if (!(in >> id >> r >> g >> b) || id < 0 || id > 65535 || r < 0 || r > 255 || g < 0 || g > 255 || b < 0 || b > 255)
+      return makeError("legend: malformed line '" + line + "'");
+    std::string name;
+    std::getline(in >> std::ws, name);
+    labels.push_back({static_cast<LabelId>(id), name, {static_cast<uint8_t>(r), static_cast<uint8_t>(g), static_cast<uint8_t>(b)}});
+  }
+  return labels;
+}
+
+openvdb::MetaMap fileMetadata(const LabeledVolume& volume, const LabelLegend& legend, const std::string& legend_text,
+                              uint64_t checksum, const MapExtraMetadata& extra) {
+  const VolumeParams& p = volume.params();
+  openvdb::MetaMap meta;
+  meta.insertMeta("semfuse:format_version", openvdb::Int32Metadata(kMapFormatVersion));
+  meta.insertMeta("semfuse:voxel_size", openvdb::DoubleMetadata(p.voxel_size));
+  meta.insertMeta("semfuse:truncation", openvdb::DoubleMetadata(p.truncation));
+  meta.insertMeta("semfuse:max_weight", openvdb::FloatMetadata(p.max_weight));
+  meta.insertMeta("semfuse:max_label_score", openvdb::FloatMetadata(p.max_label_score));
+  meta.insertMeta("semfuse:min_depth", openvdb::FloatMetadata(p.min_depth));
+  meta.insertMeta("semfuse:max_depth", openvdb::FloatMetadata(p.max_depth));
+  meta.insertMeta("semfuse:background_labels", openvdb::StringMetadata(joinIds(p.background_labels)));
+  meta.insertMeta("semfuse:integrate_color", openvdb::BoolMetadata(p.integrate_color));
+  meta.insertMeta("semfuse:frames_integrated", openvdb::Int64Metadata(static_cast<int64_t>(volume.framesIntegrated())));
+  meta.insertMeta("semfuse:legend_name", openvdb::StringMetadata(legend.name));
+  meta.insertMeta("semfuse:legend", openvdb::StringMetadata(legend_text));
+  meta.insertMeta("semfuse:legend_background", openvdb::StringMetadata(joinIds(legend.background_ids)));
+  meta.insertMeta("semfuse:checksum", openvdb::Int64Metadata(static_cast<int64_t>(checksum)));
+  for (const auto& [key, value] : extra) meta.insertMeta(kExtraPrefix + key, openvdb::StringMetadata(value));
+  return meta;
+}
+
+template <typename T>
+Result<T> required(const openvdb::MetaMap& meta, const std::string& key) {
+  const auto value = meta.getMetadata<openvdb::TypedMetadata<T>>(key);
+  if (!value) return makeError("metadata '" + key + "' is missing or has the wrong type");
+  return value->value();
+}
+
+// --- atomic write ---------------------------------------------------------------------------
+
+Status syncPath(const fs::path& path, int flags) {
+  const int fd = ::open(path.c_str(), flags);
+  if (fd < 0) return makeError("cannot open " + path.string() + " to sync it");
+  const int rc = ::fsync(fd);
+  ::close(fd);
+  if (rc != 0) return makeError("fsync of " + path.string() + " failed");
+  return Status::Ok();
+}
+
+Status writeAtomically(const fs::path& path, const openvdb::GridCPtrVec& grids, const openvdb::MetaMap& meta) {
+  const fs::path folder = path.has_parent_path() ? path.parent_path() : fs::path(".");
+  const fs::path temporary = folder / ("." + path.filename().string() + ".tmp-" + std::to_string(::getpid()));
+  auto fail = [&](const std::string& why) {
+    std::error_code ignored;
+    fs::remove(temporary, ignored);
+    return makeError("saving map to " + path.string() + ": " + why);
+  };
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    if (!out) return fail("cannot create " + temporary.string());
+    try {
+      openvdb::io::Stream(out).write(grids, meta);
+    } catch (const std::exception& e) {
+      return fail(std::string("OpenVDB write failed: ") + e.what());
+    }
+    out.close();
+    if (!out) return fail("write to " + temporary.string() + " failed (disk full?)");
+  }
+  // Data on disk before the rename makes it visible; the folder entry on disk after it.
+  if (Status s = syncPath(temporary, O_RDONLY); !s) return fail(s.error());
+  std::error_code error;
+  fs::rename(temporary, path, error);
+  if (error) return fail("rename failed: " + error.message());
+  if (Status s = syncPath(folder, O_RDONLY | O_DIRECTORY); !s) return makeError("saving map: " + s.error());
+  return Status::Ok();
+}
+
+template <typename GridT>
+typename GridT::Ptr findGrid(const openvdb::GridPtrVec& grids, const std::string& name) {
+  for (const auto& grid : grids)
+    if (grid && grid->getName() == name) return openvdb::gridPtrCast<GridT>(grid);
+  return nullptr;
+}
+
+Result<LoadedMap> readMap(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return makeError("cannot open " + path.string());
+  openvdb::GridPtrVecPtr grids;
+  openvdb::MetaMap::Ptr meta;
+  try {
+    openvdb::io::Stream stream(in, /*delayLoad=*/false);
+    grids = stream.getGrids();
+    meta = stream.getMetadata();
+  } catch (const std::exception& e) {
+    return makeError("not a readable OpenVDB file (" + std::string(e.what()) + ")");
+  }
+  if (!grids || !meta) return makeError("not a readable OpenVDB file");
+  // OpenVDB tolerates a few missing bytes at the very end; a short read still shows on the stream.
+  if (in.fail()) return makeError("the file is truncated");
+
+  auto version = required<int32_t>(*meta, "semfuse:format_version");
+  if (!version) return makeError("not a semfuse map: " + version.error());
+  if (version.value() < 1 || version.value() > kMapFormatVersion)
+    return makeError("map format version " + std::to_string(version.value()) + " is not supported (this build reads 1.." +
+                     std::to_string(kMapFormatVersion) + ")");
+
+  VolumeParams params;
+  auto voxel = required<double>(*meta, "semfuse:voxel_size");
+  auto truncation = required<double>(*meta, "semfuse:truncation");
+  auto max_weight = required<float>(*meta, "semfuse:max_weight");
+  auto max_score = required<float>(*meta, "semfuse:max_label_score");
+  auto min_depth = required<float>(*meta, "semfuse:min_depth");
+  auto max_depth = required<float>(*meta, "semfuse:max_depth");
+  auto background = required<std::string>(*meta, "semfuse:background_labels");
+  auto color = required<bool>(*meta, "semfuse:integrate_color");
+  auto frames = required<int64_t>(*meta, "semfuse:frames_integrated");
+  auto legend_name = required<std::string>(*meta, "semfuse:legend_name");
+  auto legend_text = required<std::string>(*meta, "semfuse:legend");
+  auto legend_background = required<std::string>(*meta, "semfuse:legend_background");
+  auto checksum = required<int64_t>(*meta, "semfuse:checksum");
+  for (const std::string* error :
+       {voxel ? nullptr : &voxel.error(), truncation ? nullptr : &truncation.error(),
+        max_weight ? nullptr : &max_weight.error(), max_score ? nullptr : &max_score.error(),
+        min_depth ? nullptr : &min_depth.error(), max_depth ? nullptr : &max_depth.error(),
+        background ? nullptr : &background.error(), color ? nullptr : &color.error(),
+        frames ? nullptr : &frames.error(), legend_name ? nullptr : &legend_name.error(),
+        legend_text ? nullptr : &legend_text.error(), legend_background ? nullptr : &legend_background.error(),
+        checksum ? nullptr : &checksum.error()})
+    if (error) return makeError(*error);
+  auto background_ids = parseIds(background.value(), "semfuse:background_labels");
+  if (!background_ids) return makeError(background_ids.error());
+  params.voxel_size = voxel.value();
+  params.truncation = truncation.value();
+  params.max_weight = max_weight.value();
+  params.max_label_score = max_score.value();
+  params.min_depth = min_depth.value();
+  params.max_depth = max_depth.value();
+  params.background_labels = background_ids.value();
+  params.integrate_color = color.value();
+  auto created = LabeledVolume::create(params);
+  if (!created) return makeError(created.error());
+  if (frames.value() < 0) return makeError("metadata 'semfuse:frames_integrated' is negative");
+
+  detail::MapLayers layers{findGrid<openvdb::FloatGrid>(*grids, "tsdf"), findGrid<openvdb::FloatGrid>(*grids, "weight"),
+                           findGrid<openvdb::FloatGrid>(*grids, "score"), findGrid<openvdb::Int32Grid>(*grids, "label")};
+  if (!layers.tsdf || !layers.weight || !layers.score || !layers.label)
+    return makeError("a float grid 'tsdf', 'weight', 'score' or an int32 grid 'label' is missing");
+  auto packed = detail::mergeLayers(layers);
+  if (!packed) return makeError(packed.error());
+  openvdb::Int32Grid::Ptr color_grid;
+  if (params.integrate_color) {
+    color_grid = findGrid<openvdb::Int32Grid>(*grids, "color");
+    if (!color_grid) return makeError("the int32 grid 'color' is missing");
+    // Colour leaves mirror the geometry leaves; their active masks carry no meaning.
+    bool same_leaves = color_grid->tree().leafCount() == packed.value()->leafCount();
+    for (auto leaf = packed.value()->cbeginLeaf(); same_leaves && leaf; ++leaf)
+      same_leaves = color_grid->tree().probeConstLeaf(leaf->origin()) != nullptr;
+    if (!same_leaves) return makeError("the 'color' grid's leaves differ from the tsdf's");
+  }
+  if (detail::voxelChecksum(*packed.value(), color_grid ? &color_grid->tree() : nullptr) !=
+      static_cast<uint64_t>(checksum.value()))
+    return makeError("voxel checksum mismatch: the file is corrupt");
+
+  auto legend_labels = decodeLegend(legend_text.value());
+  if (!legend_labels) return makeError(legend_labels.error());
+  auto legend_bg = parseIds(legend_background.value(), "semfuse:legend_background");
+  if (!legend_bg) return makeError(legend_bg.error());
+
+  LoadedMap map{std::move(created).value(), LabelLegend{legend_name.value(), legend_labels.value(), legend_bg.value()},
+                {}, version.value()};
+  map.volume.mutableGeometryGrid().setTree(packed.value());
+  if (color_grid) map.volume.mutableColorGrid()->setTree(color_grid->treePtr());
+  map.volume.setFramesIntegrated(static_cast<uint64_t>(frames.value()));
+  for (auto it = meta->beginMeta(); it != meta->endMeta(); ++it)
+    if (it->first.rfind(kExtraPrefix, 0) == 0 && it->second) map.extra[it->first.substr(6)] = it->second->str();
+  return map;
+}
+
+}  // namespace
+
+Status saveMap(const LabeledVolume& volume, const LabelLegend& legend, const fs::path& path,
+               const MapExtraMetadata& extra) {
+  auto legend_text = encodeLegend(legend);
+  if (!legend_text) return makeError("saving map to " + path.string() + ": " + legend_text.error());
+  const detail::MapLayers layers = detail::splitLayers(volume);
+  openvdb::GridCPtrVec grids{layers.tsdf, layers.weight, layers.score, layers.label};
+  if (volume.colorGrid()) grids.push_back(volume.colorGridPtr());
+  const uint64_t checksum = detail::voxelChecksum(volume.geometryGrid().tree(),
+                                                  volume.colorGrid() ? &volume.colorGrid()->tree() : nullptr);
+  return writeAtomically(path, grids, fileMetadata(volume, legend, legend_text.value(), checksum, extra));
+}
+
+Result<LoadedMap> loadMap(const fs::path& path) {
+  openvdb::initialize();
+  auto map = readMap(path);
+  if (!map) return makeError("loading map " + path.string() + ": " + map.error());
+  return map;
 }
 
 }  // namespace semfuse::volume
