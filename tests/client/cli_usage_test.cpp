@@ -58,6 +58,8 @@ TEST(CliUsage, CameraHelpAndBadUsage) {
   expectUsageError(SEMFUSE_CAMERA_BIN, "--source synthetic --depth-encoding jpeg", "--depth-encoding");
   expectUsageError(SEMFUSE_CAMERA_BIN, "--source synthetic --rate -3", "--rate");
   expectUsageError(SEMFUSE_CAMERA_BIN, "--source synthetic --stride 0", "--stride");
+  expectUsageError(SEMFUSE_CAMERA_BIN, "--source kinect", "--source");
+  expectUsageError(SEMFUSE_CAMERA_BIN, "--source 7scenes:", "--source");
 }
 
 TEST(CliUsage, SegmenterHelpAndBadUsage) {
@@ -77,6 +79,12 @@ TEST(CliUsage, QueryHelpAndBadUsage) {
   expectUsageError(SEMFUSE_QUERY_BIN, "region --min 0 0 0", "--max");
   expectUsageError(SEMFUSE_QUERY_BIN, "mesh", "--out");
   expectUsageError(SEMFUSE_QUERY_BIN, "--timeout 0 status", "--timeout");
+}
+
+TEST(CliUsage, CameraOnAFolderThatIsNoDatasetFailsWithCode1) {
+  const ProgramRun r = run(SEMFUSE_CAMERA_BIN, "--source 7scenes:/nonexistent/folder --wait-server 0");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("/nonexistent/folder"), std::string::npos) << r.err;
 }
 
 TEST(CliUsage, QueryWithoutServerTimesOutWithCode4) {

@@ -43,7 +43,18 @@ struct Options {
 };
 
 void addOptions(CLI::App& app, Options& o) {
-  app.add_option("--source", o.source, "7scenes:DIR, tum:DIR or synthetic")->required();
+  // The form is checked here so that a typo is a usage error (exit 2); a folder that is not a
+  // dataset is found out when it is opened.
+  const CLI::Validator source_form(
+      [](std::string& spec) -> std::string {
+        if (spec == "synthetic") return {};
+        for (const char* kind : {"7scenes:", "tum:"}) {
+          if (spec.rfind(kind, 0) == 0 && spec.size() > std::string(kind).size()) return {};
+        }
+        return "must be 7scenes:DIR, tum:DIR or synthetic";
+      },
+      "SOURCE");
+  app.add_option("--source", o.source, "7scenes:DIR, tum:DIR or synthetic")->required()->check(source_form);
   app.add_option("--rate", o.rate_hz, "frames per second; 0 = as fast as the server acknowledges")
       ->check(CLI::NonNegativeNumber)->capture_default_str();
   app.add_option("--first", o.first, "index of the first frame")->capture_default_str();
