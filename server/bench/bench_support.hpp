@@ -38,8 +38,23 @@ class Stopwatch {
   std::chrono::steady_clock::time_point start_;
 };
 
+// CPU time of the whole process (all threads): on a machine shared with other work, wall-clock
+// timings grow with the load while CPU time stays close to the code's own cost.
+class CpuStopwatch {
+ public:
+  CpuStopwatch() : start_(now()) {}
+  double elapsedMs() const { return now() - start_; }
+
+ private:
+  static double now();
+  double start_;
+};
+
 // Peak resident set size of this process so far, MiB.
 double peakRssMiB();
+
+// The 1-minute load average: timings on a shared machine mean little without it.
+double loadAverage();
 
 // Rows of (what, value, note), printed with aligned columns.
 class Table {

@@ -48,6 +48,7 @@ enum class Pass { kDepthColor, kDepthColorLabels, kSingleThreadLabels };
 
 struct PassResult {
   Timings integrate, labels_only;
+  Timings integrate_cpu, labels_only_cpu;  // CPU ms of all threads
   Timings leaves_touched;
   std::optional<volume::LabeledVolume> volume;
 };
@@ -70,17 +71,21 @@ Result<PassResult> runPass(const datasets::SevenScenesReader& reader, const volu
     if (pass == Pass::kSingleThreadLabels) single_thread.emplace(tbb::global_control::max_allowed_parallelism, 1);
     const bool with_labels = pass != Pass::kDepthColor;
     Stopwatch watch;
+    CpuStopwatch cpu;
     auto stats = volume::integrate(map, f.depth, f.color, with_labels ? seg.labels : cv::Mat(),
                                    with_labels ? seg.confidence : cv::Mat(), f.intrinsics, *f.camera_to_world);
     result.integrate.add(watch.elapsedMs());
+    result.integrate_cpu.add(cpu.elapsedMs());
     if (!stats) return makeError("integrate frame " + std::to_string(i) + ": " + stats.error());
     result.leaves_touched.add(static_cast<double>(stats.value().leaves_touched));
 
     if (pass == Pass::kDepthColor) {
       Stopwatch late;
+      CpuStopwatch late_cpu;
       auto label_stats = volume::integrateLabels(map, f.depth, seg.labels, seg.confidence, f.intrinsics,
                                                  *f.camera_to_world);
       result.labels_only.add(late.elapsedMs());
+      result.labels_only_cpu.add(late_cpu.elapsedMs());
       if (!label_stats) return makeError("integrateLabels frame " + std::to_string(i) + ": " + label_stats.error());
     }
   }
@@ -102,9 +107,11 @@ int runVolumeBench(const VolumeBenchOptions& options) {
     return 2;
   }
   const PinholeIntrinsics& k = reader.value().intrinsics();
-  std::printf("semfuse-bench volume: %zu frames of %s (%dx%d), voxel %.3f m, truncation %.3f m, %d threads\n",
+  std::printf("semfuse-bench volume: %zu frames of %s (%dx%d), voxel %.3f m, truncation %.3f m, %d threads, "
+              "load average %.2f at start\n",
               frames, options.data.c_str(), k.width, k.height, params.voxel_size, params.truncation,
-              static_cast<int>(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism)));
+              static_cast<int>(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism)),
+              loadAverage());
 
   // The labeled pass first, alone, so that peak RSS is one map (plus one frame in flight).
   auto labeled = runPass(reader.value(), params, frames, Pass::kDepthColorLabels);
@@ -138,11 +145,12 @@ int runVolumeBench(const VolumeBenchOptions& options) {
     if (prefix) parallel_prefix = prefix.value().integrate;
   }
   Table table("labeled volume (median / p95 per frame; targets from issue 3)");
-  table.addMs("integrate depth+colour", unlabeled.value().integrate);
+  auto cpu = [](const Timings& t) { return "CPU " + formatNumber(t.median()) + " ms (all threads)"; };
+  table.addMs("integrate depth+colour", unlabeled.value().integrate, cpu(unlabeled.value().integrate_cpu));
   table.addMs("integrate depth+colour+labels", with_labels,
-              "target <= 7 ms; Open3D ScalableTSDFVolume 18.7 ms (x" +
+              cpu(labeled.value().integrate_cpu) + "; target <= 7 ms; Open3D ScalableTSDFVolume 18.7 ms (x" +
                   formatNumber(18.7 / with_labels.median(), 1) + ")");
-  table.addMs("labels only (late segmentation)", unlabeled.value().labels_only);
+  table.addMs("labels only (late segmentation)", unlabeled.value().labels_only, cpu(unlabeled.value().labels_only_cpu));
   table.addMs("integrate+labels, 1 thread, first " + std::to_string(baseline_frames), single.value().integrate,
               "parallel on the same frames: " + formatNumber(parallel_prefix.median()) + " ms, speed-up x" +
                   formatNumber(single.value().integrate.median() / parallel_prefix.median(), 2));
@@ -156,6 +164,8 @@ int runVolumeBench(const VolumeBenchOptions& options) {
   table.add("map memory", formatNumber(all_bytes / (1024.0 * 1024.0), 1) + " MiB");
   table.add("peak RSS", formatNumber(peak_rss, 1) + " MiB", "after the labeled pass: one map + one frame");
   table.print();
+  std::printf("load average at the end: %.2f (timings are wall clock; other work on the machine inflates them)\n",
+              loadAverage());
   return 0;
 }
 

@@ -52,7 +52,7 @@ struct KernelCounts {
 };
 
 // Updates the 512 voxels of one leaf from one frame. Voxel camera coordinates are stepped
-// incrementally (three additions per voxel), and each voxel reads the depth pixel it projects to
+// incrementally from the leaf corner, and each voxel reads the depth pixel it projects to
 // (nearest pixel). kGeometry: TSDF/weight/colour update; kLabels: Algorithm 1. With only kLabels
 // (late segmentation), voxels never observed are left alone.
 template <bool kGeometry, bool kColor, bool kLabels>
@@ -73,31 +73,41 @@ KernelCounts updateLeaf(const LeafPair& leaf, const FrameView& frame, const Kern
 
   for (int x = 0; x < kLeafDim; ++x) {
     for (int y = 0; y < kLeafDim; ++y) {
-      Eigen::Vector3f p = corner + step_x * static_cast<float>(x) + step_y * static_cast<float>(y);
+      const Eigen::Vector3f p = corner + step_x * static_cast<float>(x) + step_y * static_cast<float>(y);
       const int row_offset = (x << 6) | (y << 3);  // OpenVDB leaf order: z fastest
-      for (int z = 0; z < kLeafDim; ++z, p += step_z) {
-        if (p.z() <= 0.0f) continue;
-        const float inv_z = 1.0f / p.z();
-        const float u = frame.fx * p.x() * inv_z + frame.cx;
-        const float v = frame.fy * p.y() * inv_z + frame.cy;
+      // Project the column's 8 voxels first: a branch-free loop the compiler vectorises (the
+      // divisions dominate otherwise), then visit them with the data-dependent branches.
+      float depth_of[kLeafDim], u_of[kLeafDim], v_of[kLeafDim];
+      for (int z = 0; z < kLeafDim; ++z) {
+        const float fz = static_cast<float>(z);
+        const float cz = p.z() + step_z.z() * fz;
+        const float inv_z = 1.0f / cz;
+        depth_of[z] = cz;
+        u_of[z] = frame.fx * (p.x() + step_z.x() * fz) * inv_z + frame.cx;
+        v_of[z] = frame.fy * (p.y() + step_z.y() * fz) * inv_z + frame.cy;
+      }
+      for (int z = 0; z < kLeafDim; ++z) {
+        const float voxel_z = depth_of[z];
+        if (voxel_z <= 0.0f) continue;
+        const float u = u_of[z];
+        const float v = v_of[z];
         if (!(u >= -0.5f && u < u_max && v >= -0.5f && v < v_max)) continue;
         const int ui = static_cast<int>(u + 0.5f);
         const int vi = static_cast<int>(v + 0.5f);
         const float d = frame.depth[static_cast<std::size_t>(vi) * frame.depth_stride + ui];
         if (!frame.validDepth(d)) continue;
-        const float sdf = d - p.z();
+        const float sdf = d - voxel_z;
         if (sdf < -config.truncation) continue;  // far behind the surface: occluded, unknown
 
         const int offset = row_offset | z;
-        PackedVoxel packed = voxels[offset];
-        float tsdf = unpackTsdf(packed);
-        float weight = unpackWeight(packed);
-        LabelId label = unpackLabel(packed);
-        float score = unpackScore(packed);
+        // Work on the packed bits and convert only the half floats a branch changes: the label
+        // half of the voxel is untouched by geometry updates and vice versa.
+        uint64_t bits = static_cast<uint64_t>(voxels[offset]);
         if (kGeometry) {
+          const float weight = volume::detail::halfValue(bits >> 16);
           const float observed = std::min(sdf, config.truncation);
           const float new_weight = weight + 1.0f;
-          tsdf = (tsdf * weight + observed) / new_weight;
+          const float tsdf = (volume::detail::halfValue(bits) * weight + observed) / new_weight;
           if (kColor) {
             const uint8_t* rgb = frame.color + static_cast<std::size_t>(vi) * frame.color_stride + 3 * ui;
             const Rgb8 old = unpackColor(colors[offset]);
@@ -106,10 +116,11 @@ KernelCounts updateLeaf(const LeafPair& leaf, const FrameView& frame, const Kern
             };
             colors[offset] = packColor({blend(old.r, rgb[0]), blend(old.g, rgb[1]), blend(old.b, rgb[2])});
           }
-          weight = std::min(new_weight, config.max_weight);
+          bits = (bits & ~uint64_t{0xFFFFFFFF}) | volume::detail::halfBits(tsdf) |
+                 (uint64_t{volume::detail::halfBits(std::min(new_weight, config.max_weight))} << 16);
           ++counts.updated;
-        } else if (weight <= 0.0f) {
-          continue;  // late labels only refine voxels that geometry has seen
+        } else if ((bits & 0xFFFF0000u) == 0) {
+          continue;  // late labels only refine voxels that geometry has seen (weight > 0)
         }
         if (kLabels && sdf < config.truncation) {  // |d - z| < truncation: the frame sees this voxel
           const int lu = frame.label_col[ui];
@@ -119,11 +130,15 @@ KernelCounts updateLeaf(const LeafPair& leaf, const FrameView& frame, const Kern
                               ? frame.confidence[static_cast<std::size_t>(lv) * frame.confidence_stride + lu]
                               : 1.0f;
           if (!(*config.ignored)[observed] && w > 0.0f && std::isfinite(w)) {
+            auto label = static_cast<LabelId>(bits >> 32);
+            float score = volume::detail::halfValue(bits >> 48);
             fuseLabelEvidence(label, score, observed, w, config.max_score);
+            bits = (bits & uint64_t{0xFFFFFFFF}) | (uint64_t{label} << 32) |
+                   (uint64_t{volume::detail::halfBits(score)} << 48);
             ++counts.labeled;
           }
         }
-        voxels[offset] = packVoxel(tsdf, weight, label, score);
+        voxels[offset] = static_cast<PackedVoxel>(bits);
         leaf.geometry->setValueOn(static_cast<openvdb::Index>(offset));
       }
     }
