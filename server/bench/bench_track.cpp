@@ -17,6 +17,7 @@
 #include "semfuse/datasets/seven_scenes.hpp"
 #include "semfuse/synthetic/synthetic_sequence.hpp"
 #include "semfuse/tracking/camera_tracking.hpp"
+#include "semfuse/tracking/se3.hpp"
 #include "semfuse/tracking/trajectory_metrics.hpp"
 #include "semfuse/tracking/volume_field.hpp"
 #include "semfuse/volume/integrator.hpp"
@@ -33,6 +34,12 @@ struct TrackBenchOptions {
   bool skip_seven_scenes = false;
   bool skip_synthetic = false;
   bool verbose = false;
+  // Diagnostic: build the map at the reference poses instead of the tracked ones, so that the
+  // trajectory error measures how far depth alignment and reference disagree frame by frame,
+  // without accumulated drift.
+  bool oracle_map = false;
+  tracking::TrackerParams tracker;
+  std::string loss = "huber";
 };
 
 // Produces frame i (depth + reference pose), or an error.
@@ -46,11 +53,11 @@ struct RunResult {
 };
 
 Result<RunResult> trackSequence(const FrameSource& source, std::size_t frames, const volume::VolumeParams& params,
-                                bool verbose) {
+                                const tracking::TrackerParams& tracker_params, bool oracle_map, bool verbose) {
   RunResult run;
   volume::LabeledVolume map(params);
   const tracking::VolumeField field(map);
-  tracking::SdfTracker tracker;
+  tracking::SdfTracker tracker(tracker_params);
   tracking::CameraTrackState state;
   for (std::size_t i = 0; i < frames; ++i) {
     Result<Frame> loaded = source(i);
@@ -71,17 +78,20 @@ Result<RunResult> trackSequence(const FrameSource& source, std::size_t frames, c
     if (i > 0) run.tracking.add(track_ms);
     if (t.shouldIntegrate()) {
       Stopwatch integrate_watch;
-      auto stats = volume::integrate(map, frame.depth, cv::Mat(), frame.intrinsics, t.pose);
+      auto stats = volume::integrate(map, frame.depth, cv::Mat(), frame.intrinsics,
+                                     oracle_map ? tracking::orthonormalized(reference) : t.pose);
       run.integration.add(integrate_watch.elapsedMs());
       if (!stats) return makeError("integrate frame " + std::to_string(i) + ": " + stats.error());
     } else {
       ++run.lost;
     }
     if (verbose || !t.shouldIntegrate())
-      std::printf("frame %3zu %-11s %-20s inliers %.2f rms %.2f mm rcond %.1e iters %2d %.1f ms  err %.1f mm\n", i,
+      std::printf("frame %3zu %-11s %-20s inliers %.2f rms %.2f mm rcond %.1e iters %2d %.1f ms  err %.1f mm"
+                  "  ref step %.1f mm\n", i,
                   tracking::toString(t.status), tracking::toString(t.lost_reason), t.quality.inlier_ratio,
                   t.quality.rms_residual_m * 1e3, t.quality.hessian_rcond, t.quality.iterations, track_ms,
-                  (t.pose.translation() - reference.translation()).norm() * 1e3);
+                  (t.pose.translation() - reference.translation()).norm() * 1e3,
+                  run.reference.empty() ? 0.0 : (reference.translation() - run.reference.back().translation()).norm() * 1e3);
     run.estimate.push_back(t.pose);
     run.reference.push_back(reference);
     ++run.frames;
@@ -104,7 +114,8 @@ int report(const std::string& title, const RunResult& run, const std::string& at
             ate_target + "; max " + formatNumber(raw.value().max_m * 100, 2) + " cm");
   table.add("ATE RMSE, Umeyama-aligned", formatNumber(aligned.value().rmse_m * 100, 2) + " cm");
   table.add("RPE per frame, translation", formatNumber(rpe.value().translation_rmse_m * 1000, 2) + " mm",
-            "RMSE; max " + formatNumber(rpe.value().translation_max_m * 1000, 2) + " mm");
+            "RMSE; max " + formatNumber(rpe.value().translation_max_m * 1000, 2) + " mm (frame " +
+                std::to_string(rpe.value().translation_max_frame) + ")");
   table.add("RPE per frame, rotation", formatNumber(rpe.value().rotation_rmse_deg, 3) + " deg",
             "RMSE; max " + formatNumber(rpe.value().rotation_max_deg, 3) + " deg");
   if (drift) {
@@ -129,8 +140,18 @@ int runTrackBench(const TrackBenchOptions& options) {
     std::fprintf(stderr, "volume parameters: %s\n", status.error().c_str());
     return 2;
   }
-  std::printf("voxel %.3f m, truncation %.3f m, tracker defaults (3 levels, <= 6000 points per level)\n",
-              options.voxel, options.truncation);
+  tracking::TrackerParams tracker_params = options.tracker;
+  if (options.loss == "cauchy") tracker_params.loss = tracking::RobustLoss::kCauchy;
+  if (Status status = tracking::SdfTracker::validate(tracker_params); !status) {
+    std::fprintf(stderr, "tracker parameters: %s\n", status.error().c_str());
+    return 2;
+  }
+  const auto& p = tracker_params;
+  std::printf("voxel %.3f m, truncation %.3f m; tracker: %d levels, points %zu/%zu/%zu, iterations %d/%d/%d, %s %.2f x trunc,"
+              " depth <= %.1f m\n",
+              options.voxel, options.truncation, p.pyramid.levels, p.pyramid.max_points[0], p.pyramid.max_points[1],
+              p.pyramid.max_points[2], p.max_iterations[0], p.max_iterations[1], p.max_iterations[2],
+              options.loss.c_str(), static_cast<double>(p.robust_scale), static_cast<double>(p.pyramid.max_depth_m));
 
   int exit_code = 0;
   if (!options.skip_seven_scenes) {
@@ -141,13 +162,13 @@ int runTrackBench(const TrackBenchOptions& options) {
     }
     const datasets::SevenScenesReader& r = reader.value();
     const std::size_t frames = std::min(options.frames, r.count());
-    auto run = trackSequence([&r](std::size_t i) { return r.loadDepthOnly(i); }, frames, params, options.verbose);
+    auto run = trackSequence([&r](std::size_t i) { return r.loadDepthOnly(i); }, frames, params, tracker_params, options.oracle_map, options.verbose);
     if (!run) {
       std::fprintf(stderr, "7-Scenes: %s\n", run.error().c_str());
       return 1;
     }
     exit_code |= report("tracking: 7-Scenes redkitchen frames 0-" + std::to_string(frames - 1) +
-                            " vs reference poses",
+                            " vs reference poses" + (options.oracle_map ? " (map at reference poses)" : ""),
                         run.value(), "target <= 3 cm", false);
   }
   if (!options.skip_synthetic) {
@@ -155,7 +176,8 @@ int runTrackBench(const TrackBenchOptions& options) {
     config.trajectory.frame_count = options.synthetic_frames;
     const synthetic::SyntheticSequence sequence(config);
     auto run = trackSequence([&sequence](std::size_t i) { return sequence.frame(static_cast<int>(i)); },
-                             static_cast<std::size_t>(sequence.frameCount()), params, options.verbose);
+                             static_cast<std::size_t>(sequence.frameCount()), params, tracker_params,
+                             options.oracle_map, options.verbose);
     if (!run) {
       std::fprintf(stderr, "synthetic: %s\n", run.error().c_str());
       return 1;
@@ -178,6 +200,21 @@ const bool registered = registerBench(
           ->capture_default_str();
       command.add_flag("--skip-7scenes", options->skip_seven_scenes, "only the synthetic room");
       command.add_flag("--skip-synthetic", options->skip_synthetic, "only 7-Scenes");
+      auto& tp = options->tracker;
+      command.add_option("--fine-points", tp.pyramid.max_points[0], "points at 640x480 (0 = all)")->capture_default_str();
+      command.add_option("--mid-points", tp.pyramid.max_points[1], "points at 320x240")->capture_default_str();
+      command.add_option("--coarse-points", tp.pyramid.max_points[2], "points at 160x120")->capture_default_str();
+      command.add_option("--fine-iters", tp.max_iterations[0], "iterations at 640x480")->capture_default_str();
+      command.add_option("--mid-iters", tp.max_iterations[1], "iterations at 320x240")->capture_default_str();
+      command.add_option("--coarse-iters", tp.max_iterations[2], "iterations at 160x120")->capture_default_str();
+      command.add_option("--loss", options->loss, "robust loss")->check(CLI::IsMember({"huber", "cauchy"}))
+          ->capture_default_str();
+      command.add_option("--robust-scale", tp.robust_scale, "robust scale, x truncation")->capture_default_str();
+      command.add_option("--max-depth", tp.pyramid.max_depth_m, "depth readings beyond are ignored, metres")
+          ->capture_default_str();
+      command.add_option("--convergence", tp.convergence_norm, "update norm that ends a level")->capture_default_str();
+      command.add_flag("--oracle-map", options->oracle_map,
+                       "diagnostic: integrate at the reference poses (measures per-frame disagreement, not drift)");
       command.add_flag("--verbose", options->verbose, "one line per frame (lost frames are always printed)");
       return [options] { return runTrackBench(*options); };
     });

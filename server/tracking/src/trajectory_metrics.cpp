@@ -56,7 +56,10 @@ Result<RelativePoseError> relativePoseError(const std::vector<Pose>& estimate, c
     const double r = rotationAngle(error.linear()) * 180.0 / M_PI;
     t_sq += t * t;
     r_sq += r * r;
-    out.translation_max_m = std::max(out.translation_max_m, t);
+    if (t > out.translation_max_m) {
+      out.translation_max_m = t;
+      out.translation_max_frame = i;
+    }
     out.rotation_max_deg = std::max(out.rotation_max_deg, r);
   }
   out.translation_rmse_m = std::sqrt(t_sq / static_cast<double>(steps));

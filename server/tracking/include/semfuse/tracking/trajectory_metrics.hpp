@@ -22,6 +22,7 @@ struct RelativePoseError {
   double translation_max_m = 0.0;
   double rotation_rmse_deg = 0.0;
   double rotation_max_deg = 0.0;
+  std::size_t translation_max_frame = 0;  // the step from this frame to the next is the worst
 };
 
 // Camera-centre errors of `estimate` against `reference` (same length, index = frame). With
