@@ -107,12 +107,13 @@ KernelCounts updateLeaf(const LeafPair& leaf, const FrameView& frame, const Kern
           const float weight = volume::detail::halfValue(bits >> 16);
           const float observed = std::min(sdf, config.truncation);
           const float new_weight = weight + 1.0f;
-          const float tsdf = (volume::detail::halfValue(bits) * weight + observed) / new_weight;
+          const float inv_new_weight = 1.0f / new_weight;  // one division for tsdf and colour
+          const float tsdf = (volume::detail::halfValue(bits) * weight + observed) * inv_new_weight;
           if (kColor) {
             const uint8_t* rgb = frame.color + static_cast<std::size_t>(vi) * frame.color_stride + 3 * ui;
             const Rgb8 old = unpackColor(colors[offset]);
             auto blend = [&](uint8_t a, uint8_t b) {
-              return static_cast<uint8_t>((a * weight + b) / new_weight + 0.5f);
+              return static_cast<uint8_t>((a * weight + b) * inv_new_weight + 0.5f);
             };
             colors[offset] = packColor({blend(old.r, rgb[0]), blend(old.g, rgb[1]), blend(old.b, rgb[2])});
           }
