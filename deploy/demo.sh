@@ -18,15 +18,17 @@ out="$root/out/demo"
 build=1
 build_dir="$root/build/release"
 noise=0.3
+rate=30
 usage() {
   sed -n '2,12p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
-  echo "options: --dataset synthetic|7scenes  --frames N  --noise P  --out DIR  --no-build  --build-dir DIR"
+  echo "options: --dataset synthetic|7scenes  --frames N  --noise P  --rate HZ  --out DIR  --no-build  --build-dir DIR"
 }
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --dataset) dataset="$2"; shift 2 ;;
     --frames) frames="$2"; shift 2 ;;
     --noise) noise="$2"; shift 2 ;;
+    --rate) rate="$2"; shift 2 ;;
     --out) out="$2"; shift 2 ;;
     --no-build) build=0; shift ;;
     --build-dir) build_dir="$2"; shift 2 ;;
@@ -63,7 +65,7 @@ query() { "$bin/semfuse-query" "${dds[@]}" "$@"; }
 
 if [[ "$dataset" == synthetic ]]; then
   config="$root/deploy/demo/synthetic.yaml"
-  source=(--source synthetic --frames "$frames" --rate 30)
+  source=(--source synthetic --frames "$frames" --rate "$rate")
   segmenter=(--backend noise --base gt --noise "$noise" --noise-model pixel --seed 7 --every 2 --delay 300)
   # Two overviews from opposite corners, looking at the table (camera-to-world, row-major 3x4).
   views=("0.6114475 0.4127809 -0.6750881 2.2 0.7912850 -0.3189671 0.5216590 -1.7 0 -0.8531541 -0.5216590 2.2"

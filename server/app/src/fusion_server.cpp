@@ -7,7 +7,6 @@
 
 #include <spdlog/spdlog.h>
 
-#include "sdf_pose_estimator.hpp"
 #include "semfuse/core/legend_io.hpp"
 #include "semfuse/dds/qos.hpp"
 #include "semfuse/dds/sample.hpp"
@@ -72,7 +71,7 @@ FusionServer::FusionServer(ServerConfig config)
       pose_writer_(pose_topic_, dds::qos::poses()),
       status_writer_(status_topic_, dds::qos::status()),
       legend_writer_(legend_topic_, dds::qos::legend()) {
-  mapper_ = std::make_unique<Mapper>(mapperOptions(config_, legend_), std::make_unique<SdfPoseEstimator>());
+  mapper_ = std::make_unique<Mapper>(mapperOptions(config_, legend_));
 
   if (!config_.map_file.empty() && std::filesystem::exists(config_.map_file)) {
     if (Status loaded = mapper_->load(config_.map_file); !loaded)

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <utility>
 
+#include "semfuse/tracking/volume_field.hpp"
+
 namespace semfuse::server {
 namespace {
 double millisecondsSince(std::chrono::steady_clock::time_point start) {
@@ -11,19 +13,25 @@ double millisecondsSince(std::chrono::steady_clock::time_point start) {
 }
 }  // namespace
 
-Mapper::Mapper(MapperOptions options, std::unique_ptr<PoseEstimator> estimator)
-    : options_(std::move(options)), estimator_(std::move(estimator)), volume_(options_.volume) {}
+Mapper::Mapper(MapperOptions options)
+    : options_(std::move(options)), tracker_(options_.tracker), volume_(options_.volume) {}
 
-Result<Pose> Mapper::choosePose(const Frame& frame, CameraTrack& track, FrameOutcome& outcome) {
-  if (frame.camera_to_world && !(options_.refine_given_poses && estimator_ && track.has_pose)) {
-    outcome.pose_state = PoseState::kGiven;
-    return *frame.camera_to_world;
+namespace {
+PoseState poseStateOf(tracking::TrackingStatus status) {
+  switch (status) {
+    case tracking::TrackingStatus::kInitialized:
+    case tracking::TrackingStatus::kGivenPose: return PoseState::kGiven;
+    case tracking::TrackingStatus::kRefined: return PoseState::kRefined;
+    case tracking::TrackingStatus::kTracked: return PoseState::kTracked;
+    case tracking::TrackingStatus::kLost: break;
   }
-  if (!track.has_pose) {
-    if (frame.camera_to_world) {
-      outcome.pose_state = PoseState::kGiven;
-      return *frame.camera_to_world;
-    }
+  return PoseState::kLost;
+}
+}  // namespace
+
+Result<tracking::TrackedFrame> Mapper::choosePose(const Frame& frame, FrameOutcome& outcome) {
+  auto known = cameras_.find(frame.camera_id);
+  if (known == cameras_.end() && !frame.camera_to_world) {
     // The first frame of an empty map defines the world frame; any later camera must say where
     // it is, or its frames could never be placed consistently with the rest of the map.
     bool map_empty = false;
@@ -35,45 +43,37 @@ Result<Pose> Mapper::choosePose(const Frame& frame, CameraTrack& track, FrameOut
       return makeError("camera '" + frame.camera_id +
                        "': first frame has no pose, and the map already has a world frame; "
                        "send the first frame of a new camera with its camera_to_world pose");
-    outcome.pose_state = PoseState::kGiven;
-    return Pose::Identity();
   }
-  if (!estimator_) return makeError("frame without pose and the server has no tracker");
-
-  const bool refining = frame.camera_to_world.has_value();
-  const Pose guess = refining ? *frame.camera_to_world : Pose(track.velocity * track.last_pose);
+  // Work on a copy: a frame the tracker rejects as malformed must leave the camera's state alone.
+  tracking::CameraTrackState state = known == cameras_.end() ? tracking::CameraTrackState{} : known->second;
+  const auto policy = options_.refine_given_poses ? tracking::GivenPosePolicy::kRefine
+                                                  : tracking::GivenPosePolicy::kUseAsIs;
   const auto start = std::chrono::steady_clock::now();
-  PoseEstimator::Estimate estimate;
+  Result<tracking::TrackedFrame> tracked = tracking::TrackedFrame{};
   {
     std::shared_lock lock(mutex_);
-    estimate = estimator_->estimate(volume_, frame, guess);
+    tracking::VolumeField field(volume_);
+    tracked = tracking::trackFrame(tracker_, frame, field, state, policy);
   }
   outcome.track_ms = millisecondsSince(start);
-  outcome.inlier_ratio = estimate.inlier_ratio;
-  outcome.residual = estimate.residual;
-  outcome.iterations = estimate.iterations;
-  if (!estimate.ok) {
-    outcome.pose_state = PoseState::kLost;
-    outcome.lost_reason = estimate.failure;
-    outcome.camera_to_world = guess;
-    return guess;
-  }
-  outcome.pose_state = refining ? PoseState::kRefined : PoseState::kTracked;
-  return estimate.camera_to_world;
+  if (!tracked.ok()) return tracked;
+  cameras_[frame.camera_id] = state;
+
+  const tracking::TrackedFrame& t = tracked.value();
+  outcome.pose_state = poseStateOf(t.status);
+  outcome.camera_to_world = t.pose;
+  outcome.inlier_ratio = static_cast<float>(t.quality.inlier_ratio);
+  outcome.residual = static_cast<float>(t.quality.rms_residual_m);
+  outcome.iterations = static_cast<uint32_t>(t.quality.iterations);
+  if (!t.shouldIntegrate()) outcome.lost_reason = tracking::toString(t.lost_reason);
+  return tracked;
 }
 
 Result<FrameOutcome> Mapper::integrateFrame(const Frame& frame, const Segmentation* segmentation) {
   FrameOutcome outcome;
-  const bool known_camera = cameras_.count(frame.camera_id) > 0;
-  CameraTrack candidate = known_camera ? cameras_.at(frame.camera_id) : CameraTrack{};
-  auto pose = choosePose(frame, candidate, outcome);
-  if (!pose.ok()) return Error{pose.error()};
-  outcome.camera_to_world = pose.value();
-  if (outcome.pose_state == PoseState::kLost) {
-    // Keep the last good pose and velocity: the next frame starts from there.
-    cameras_[frame.camera_id] = candidate;
-    return outcome;
-  }
+  auto tracked = choosePose(frame, outcome);
+  if (!tracked.ok()) return Error{tracked.error()};
+  if (!tracked.value().shouldIntegrate()) return outcome;
 
   Frame posed = frame;  // shallow: cv::Mat shares pixels
   posed.camera_to_world = outcome.camera_to_world;
@@ -88,11 +88,6 @@ Result<FrameOutcome> Mapper::integrateFrame(const Frame& frame, const Segmentati
   if (!stats.ok()) return Error{stats.error()};
   outcome.stats = stats.value();
   outcome.integrated = true;
-
-  if (candidate.has_pose) candidate.velocity = outcome.camera_to_world * candidate.last_pose.inverse();
-  candidate.last_pose = outcome.camera_to_world;
-  candidate.has_pose = true;
-  cameras_[frame.camera_id] = candidate;
   return outcome;
 }
 

@@ -18,6 +18,8 @@
 #include "semfuse/core/legend.hpp"
 #include "semfuse/core/result.hpp"
 #include "semfuse/core/types.hpp"
+#include "semfuse/tracking/camera_tracking.hpp"
+#include "semfuse/tracking/sdf_tracker.hpp"
 #include "semfuse/volume/integrator.hpp"
 #include "semfuse/volume/labeled_volume.hpp"
 #include "semfuse/volume/map_file.hpp"
@@ -37,32 +39,16 @@ struct FrameOutcome {
   volume::IntegrationStats stats;
 };
 
-// Pose estimation for frames that come without one (or with one to refine). The server wires in
-// the SDF tracker; tests can plug in something simpler.
-class PoseEstimator {
- public:
-  struct Estimate {
-    bool ok = false;
-    Pose camera_to_world = Pose::Identity();
-    float inlier_ratio = 0.0f;
-    float residual = 0.0f;
-    uint32_t iterations = 0;
-    std::string failure;
-  };
-  virtual ~PoseEstimator() = default;
-  // Aligns `frame` (depth) to the volume starting from `guess`. Called with the map read-locked.
-  virtual Estimate estimate(const volume::LabeledVolume& volume, const Frame& frame, const Pose& guess) = 0;
-};
-
 struct MapperOptions {
   volume::VolumeParams volume;
   LabelLegend legend;
   bool refine_given_poses = false;
+  tracking::TrackerParams tracker;
 };
 
 class Mapper {
  public:
-  Mapper(MapperOptions options, std::unique_ptr<PoseEstimator> estimator);
+  explicit Mapper(MapperOptions options);
 
   // Fusion thread only. Errors: bad input (sizes, intrinsics) or a camera whose first frame
   // has no pose while the map already has content (it could not be placed in the world frame).
@@ -99,18 +85,14 @@ class Mapper {
   uint64_t revision() const;
 
  private:
-  struct CameraTrack {
-    Pose last_pose = Pose::Identity();
-    Pose velocity = Pose::Identity();  // last_pose * previous^-1: constant-velocity prior
-    bool has_pose = false;
-  };
-  Result<Pose> choosePose(const Frame& frame, CameraTrack& track, FrameOutcome& outcome);
+  // Decides the frame's pose (tracking::trackFrame's per-camera policy) and fills `outcome`.
+  Result<tracking::TrackedFrame> choosePose(const Frame& frame, FrameOutcome& outcome);
 
   MapperOptions options_;
-  std::unique_ptr<PoseEstimator> estimator_;
+  tracking::SdfTracker tracker_;  // fusion thread only: keeps its buffers between frames
   mutable std::shared_mutex mutex_;
   volume::LabeledVolume volume_;
-  std::map<std::string, CameraTrack> cameras_;  // fusion thread only
+  std::map<std::string, tracking::CameraTrackState> cameras_;  // fusion thread only
   uint64_t revision_ = 0;                        // guarded by mutex_
 };
 
