@@ -1,8 +1,16 @@
 #pragma once
 // One ray through the TSDF: the march and zero-crossing search behind raycast(). Internal.
+//
+// Everything happens in index space (voxel (i,j,k) centred at (i,j,k)): the ray is transformed
+// once, samples read the packed voxels straight from leaf buffers through one cached accessor,
+// and the tree's sparsity is used at every level a ray can skip:
+//   - no leaf at the sample: jump to the exit of the missing leaf / internal node (its tile);
+//   - a leaf, but the 8^3, 4^3, 2^3 or 1 voxel block around the sample was never observed
+//     (inactive in the leaf's value mask): jump to that block's exit;
+//   - observed and in front of the surface: sphere-trace by the TSDF value.
 #include <Eigen/Core>
 
-#include "semfuse/volume/volume_sampler.hpp"
+#include "semfuse/volume/labeled_volume.hpp"
 
 namespace semfuse::render::detail {
 
@@ -15,28 +23,32 @@ struct MarchRay {
   double t_max = 0.0;
 };
 
-// Marches one ray. Owns accessors, so one per thread, like VolumeSampler.
+// Marches rays. Owns a tree accessor, so one per thread; cheap to construct.
 class RayMarcher {
  public:
+  // skip_empty_space false: no tree-based skipping at all, half-voxel steps wherever the TSDF is
+  // unknown (the reference the skipping is checked and benchmarked against).
   RayMarcher(const volume::LabeledVolume& volume, bool skip_empty_space);
 
-  // Depth t of the first positive-to-negative crossing in [t_min, t_max); false when none.
+  // Depth t of the first positive-to-negative crossing of the trilinear TSDF in [t_min, t_max);
+  // false when none.
   bool findSurface(const MarchRay& ray, double& t_surface);
 
-  volume::VolumeSampler& sampler() { return sampler_; }
+  // Trilinear TSDF in voxel units at a continuous index-space point; false where any of the 8
+  // corners is unobserved.
+  bool sample(const Eigen::Vector3d& index, float& tsdf_voxels);
 
  private:
-  // Where an unallocated region starts at `ijk`, the ray parameter at which the ray leaves that
-  // region (a tile or a missing child of the tree, aligned to its node size); t itself when a
-  // leaf is there.
-  double skipEmpty(const openvdb::Coord& ijk, const Eigen::Vector3d& index_origin,
-                   const Eigen::Vector3d& index_direction, double t);
-  // Regula falsi on the trilinear interpolant between a positive and a negative sample.
-  double refineCrossing(const MarchRay& ray, double t_pos, float f_pos, double t_neg, float f_neg);
+  using Accessor = volume::GeometryGrid::ConstAccessor;
+  using Leaf = volume::GeometryGrid::TreeType::LeafNodeType;
 
-  volume::VolumeSampler sampler_;
-  volume::GeometryGrid::ConstAccessor accessor_;
-  double voxel_size_;
+  // Reads the 8 packed corners of the cell at `base` (corner = dx + 2 dy + 4 dz) from `leaf`,
+  // the leaf holding `base` (or null); false as soon as one is unobserved.
+  bool gatherCorners(const Leaf* leaf, const openvdb::Coord& base, volume::PackedVoxel corners[8]);
+  bool sampleAt(const Leaf* leaf, const openvdb::Coord& base, const Eigen::Vector3d& index, float& tsdf_voxels);
+
+  Accessor accessor_;
+  double inv_voxel_size_;
   bool skip_empty_space_;
 };
 

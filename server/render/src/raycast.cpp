@@ -9,6 +9,7 @@
 #include <tbb/parallel_for.h>
 
 #include "ray_marcher.hpp"
+#include "semfuse/volume/volume_sampler.hpp"
 
 namespace semfuse::render {
 namespace {
@@ -83,9 +84,9 @@ RaycastImages allocateImages(const PinholeIntrinsics& k, RenderLayers layers) {
 }
 
 // Writes the requested layers of one pixel whose ray meets the surface at t.
-void shadePixel(RayMarcher& marcher, const MarchRay& ray, double t, RenderLayers layers, RaycastImages& images,
-                int u, int v) {
-  volume::VolumeSampler& sampler = marcher.sampler();
+// Normals from the gradient and the nearest voxel's layers are read once per hit, not per sample.
+void shadePixel(volume::VolumeSampler& sampler, const MarchRay& ray, double t, RenderLayers layers,
+                RaycastImages& images, int u, int v) {
   const Eigen::Vector3f point = (ray.origin + t * ray.direction).cast<float>();
   if (layers & kDepthLayer) images.depth.at<float>(v, u) = static_cast<float>(t);
   if (layers & kNormalLayer) {
@@ -124,13 +125,14 @@ Result<RaycastImages> raycast(const volume::LabeledVolume& volume, const Pinhole
   // fine-grained tasks balance the two cores.
   tbb::parallel_for(tbb::blocked_range<int>(0, k.height, 4), [&](const tbb::blocked_range<int>& rows) {
     RayMarcher marcher(volume, options.skip_empty_space);
+    volume::VolumeSampler sampler(volume);
     for (int v = rows.begin(); v < rows.end(); ++v) {
       for (int u = 0; u < k.width; ++u) {
         MarchRay ray{origin, rotation * Eigen::Vector3d((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0),
                      options.min_depth, options.max_depth};
         double t;
         if (clipToBox(bounds, ray) && marcher.findSurface(ray, t))
-          shadePixel(marcher, ray, t, options.layers, images, u, v);
+          shadePixel(sampler, ray, t, options.layers, images, u, v);
       }
     }
   });
