@@ -9,11 +9,12 @@
 namespace semfuse::synthetic {
 namespace {
 
-// Slab test against an axis-aligned box: can the ray reach it closer than t_best?
-bool mayHit(const Aabb& box, const Ray& ray, double t_min, double t_best) {
+// Slab test against an axis-aligned box: can the ray reach it closer than t_best? inv_direction
+// is 1 / direction per axis (+-inf for 0 is what the slab test wants), computed once per ray.
+bool mayHit(const Aabb& box, const Ray& ray, const Eigen::Vector3d& inv_direction, double t_min, double t_best) {
   double t0 = t_min, t1 = t_best;
   for (int axis = 0; axis < 3; ++axis) {
-    const double inv = 1.0 / ray.direction[axis];  // +-inf for 0 is what the slab test wants
+    const double inv = inv_direction[axis];
     double a = (box.min[axis] - ray.origin[axis]) * inv;
     double b = (box.max[axis] - ray.origin[axis]) * inv;
     if (a > b) std::swap(a, b);
@@ -40,8 +41,9 @@ std::size_t LabeledScene::add(SceneObject object) {
 std::optional<SurfaceHit> LabeledScene::castRay(const Ray& ray, double t_min) const {
   std::optional<SurfaceHit> best;
   double t_best = std::numeric_limits<double>::infinity();
+  const Eigen::Vector3d inv_direction = ray.direction.cwiseInverse();
   for (std::size_t i = 0; i < objects_.size(); ++i) {
-    if (!mayHit(bounds_[i], ray, t_min, t_best)) continue;
+    if (!mayHit(bounds_[i], ray, inv_direction, t_min, t_best)) continue;
     if (auto hit = intersect(objects_[i].shape, ray, t_min); hit && hit->t < t_best) {
       t_best = hit->t;
       best = SurfaceHit{hit->t, ray.origin + hit->t * ray.direction, hit->normal, i};
