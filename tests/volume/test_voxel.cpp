@@ -1,4 +1,7 @@
 // The packed 8-byte voxel: exact round trips of representable values, and all-zero = unobserved.
+#include <cmath>
+#include <cstdint>
+
 #include <gtest/gtest.h>
 
 #include "semfuse/volume/labeled_volume.hpp"
@@ -38,6 +41,39 @@ TEST(Voxel, ZeroBitsAreTheUnobservedVoxel) {
   EXPECT_EQ(unpackLabel(kUnobservedVoxel), kUnlabeled);
   EXPECT_TRUE(isObserved(packVoxel(0.0f, 1.0f, 0, 0.0f)));
   EXPECT_FALSE(isObserved(packVoxel(0.02f, 0.0f, 3, 1.0f)));
+}
+
+// The packing uses its own table-free half conversions; they must give the bits of
+// openvdb::math::half (IEEE binary16, round to nearest even) for every input that matters.
+TEST(Voxel, HalfConversionsMatchOpenVdbHalfExactly) {
+  for (uint32_t h = 0; h <= 0xFFFFu; ++h) {
+    openvdb::math::half reference;
+    reference.setBits(static_cast<unsigned short>(h));
+    const float expected = static_cast<float>(reference);
+    const float got = detail::halfValue(h);
+    if (std::isnan(expected)) {
+      ASSERT_TRUE(std::isnan(got)) << "half bits " << h;
+      continue;
+    }
+    ASSERT_EQ(detail::floatBits(got), detail::floatBits(expected)) << "half bits " << h;
+    ASSERT_EQ(detail::halfBits(got), h) << "half bits " << h;  // every half round-trips
+  }
+  // Floats: every 1021st bit pattern (all exponents, mixed mantissas) plus the rounding ties.
+  auto check = [](float f) {
+    const uint16_t expected = openvdb::math::half(f).bits();
+    if (std::isnan(f)) {
+      ASSERT_TRUE(std::isnan(detail::halfValue(detail::halfBits(f))));
+      return;
+    }
+    ASSERT_EQ(detail::halfBits(f), expected) << "float " << f << " bits " << detail::floatBits(f);
+  };
+  for (uint64_t u = 0; u <= 0xFFFFFFFFull; u += 1021) check(detail::bitsFloat(static_cast<uint32_t>(u)));
+  for (uint32_t h = 0; h < 0x7C00u; ++h) {  // exactly halfway between two halves, both signs
+    const float lo = detail::halfValue(h), hi = detail::halfValue(h + 1);
+    const float mid = detail::bitsFloat((detail::floatBits(lo) + detail::floatBits(hi)) / 2);
+    check(mid);
+    check(-mid);
+  }
 }
 
 TEST(Voxel, ColorRoundTrips) {

@@ -60,6 +60,7 @@ KernelCounts updateLeaf(const LeafPair& leaf, const FrameView& frame, const Kern
   KernelCounts counts;
   PackedVoxel* voxels = leaf.geometry->buffer().data();
   PackedColor* colors = kColor ? leaf.color->buffer().data() : nullptr;
+  auto& active = leaf.geometry->getValueMask();
   const openvdb::Coord origin = leaf.geometry->origin();
   const Eigen::Matrix3f& rotation = frame.world_to_camera_rotation;
   const Eigen::Vector3f corner =
@@ -70,34 +71,46 @@ KernelCounts updateLeaf(const LeafPair& leaf, const FrameView& frame, const Kern
   const Eigen::Vector3f step_z = rotation.col(2) * config.voxel_size;
   const float u_max = static_cast<float>(frame.width) - 0.5f;
   const float v_max = static_cast<float>(frame.height) - 0.5f;
+  const auto depth_stride = static_cast<int>(frame.depth_stride);
+  const float min_sdf = -config.truncation;
 
   for (int x = 0; x < kLeafDim; ++x) {
+    // OpenVDB leaf order is z fastest, so the active bits of one x slab are one 64-bit mask word.
+    uint64_t active_bits = 0;
     for (int y = 0; y < kLeafDim; ++y) {
       const Eigen::Vector3f p = corner + step_x * static_cast<float>(x) + step_y * static_cast<float>(y);
-      const int row_offset = (x << 6) | (y << 3);  // OpenVDB leaf order: z fastest
-      // Project the column's 8 voxels first: a branch-free loop the compiler vectorises (the
-      // divisions dominate otherwise), then visit them with the data-dependent branches.
-      float depth_of[kLeafDim], u_of[kLeafDim], v_of[kLeafDim];
+      const int row_offset = (x << 6) | (y << 3);
+      // Project the column's 8 voxels and read their depth pixels in a branch-free loop the
+      // compiler vectorises (the division and the tests dominate otherwise). Voxels behind the
+      // camera or outside the image are marked row_of = -1.
+      float depth_of[kLeafDim];
+      int col_of[kLeafDim], row_of[kLeafDim];
+      int inside = 0;
       for (int z = 0; z < kLeafDim; ++z) {
         const float fz = static_cast<float>(z);
         const float cz = p.z() + step_z.z() * fz;
         const float inv_z = 1.0f / cz;
+        const float u = frame.fx * (p.x() + step_z.x() * fz) * inv_z + frame.cx;
+        const float v = frame.fy * (p.y() + step_z.y() * fz) * inv_z + frame.cy;
+        // Non-short-circuit & keeps the loop free of branches.
+        const bool in_image = (cz > 0.0f) & (u >= -0.5f) & (u < u_max) & (v >= -0.5f) & (v < v_max);
+        // Select before converting: float -> int of an out-of-range value is undefined.
+        const int ui = static_cast<int>(in_image ? u + 0.5f : 0.0f);
+        const int vi = static_cast<int>(in_image ? v + 0.5f : 0.0f);
         depth_of[z] = cz;
-        u_of[z] = frame.fx * (p.x() + step_z.x() * fz) * inv_z + frame.cx;
-        v_of[z] = frame.fy * (p.y() + step_z.y() * fz) * inv_z + frame.cy;
+        col_of[z] = ui;
+        row_of[z] = in_image ? vi : -1;
+        inside |= static_cast<int>(in_image);
       }
+      if (inside == 0) continue;
       for (int z = 0; z < kLeafDim; ++z) {
-        const float voxel_z = depth_of[z];
-        if (voxel_z <= 0.0f) continue;
-        const float u = u_of[z];
-        const float v = v_of[z];
-        if (!(u >= -0.5f && u < u_max && v >= -0.5f && v < v_max)) continue;
-        const int ui = static_cast<int>(u + 0.5f);
-        const int vi = static_cast<int>(v + 0.5f);
-        const float d = frame.depth[static_cast<std::size_t>(vi) * frame.depth_stride + ui];
+        const int vi = row_of[z];
+        if (vi < 0) continue;
+        const int ui = col_of[z];
+        const float d = frame.depth[vi * depth_stride + ui];
         if (!frame.validDepth(d)) continue;
-        const float sdf = d - voxel_z;
-        if (sdf < -config.truncation) continue;  // far behind the surface: occluded, unknown
+        const float sdf = d - depth_of[z];
+        if (sdf < min_sdf) continue;  // far behind the surface: occluded, unknown
 
         const int offset = row_offset | z;
         // Work on the packed bits and convert only the half floats a branch changes: the label
@@ -140,9 +153,10 @@ KernelCounts updateLeaf(const LeafPair& leaf, const FrameView& frame, const Kern
           }
         }
         voxels[offset] = static_cast<PackedVoxel>(bits);
-        leaf.geometry->setValueOn(static_cast<openvdb::Index>(offset));
+        active_bits |= uint64_t{1} << ((y << 3) | z);
       }
     }
+    active.template getWord<uint64_t>(static_cast<openvdb::Index>(x)) |= active_bits;
   }
   return counts;
 }

@@ -11,6 +11,7 @@
 // serialisable grid type, 8 bytes per voxel plus tree overhead. Colour lives in a separate
 // Int32Grid with the same topology (0x00RRGGBB), so maps without colour pay nothing for it.
 #include <cstdint>
+#include <cstring>
 
 #include <openvdb/math/Half.h>
 #include <openvdb/openvdb.h>
@@ -42,11 +43,59 @@ struct Rgb8 {
 };
 
 namespace detail {
-inline uint16_t halfBits(float value) { return openvdb::math::half(value).bits(); }
+// IEEE binary16 <-> binary32 without tables or calls. openvdb::math::half converts half -> float
+// through a 256 KiB table and float -> half through an out-of-line function; in the integration
+// loop (several conversions per voxel, a million voxels per frame) both showed in the profile.
+// These are plain integer/float arithmetic that inlines (and vectorises), and give the same bits
+// as openvdb::math::half for every input: round to nearest even, subnormals, +-inf, NaN stays NaN
+// (tests/volume/test_voxel.cpp checks all 65536 halves and a sweep of floats).
+inline uint32_t floatBits(float f) {
+  uint32_t u;
+  std::memcpy(&u, &f, sizeof u);
+  return u;
+}
+inline float bitsFloat(uint32_t u) {
+  float f;
+  std::memcpy(&f, &u, sizeof f);
+  return f;
+}
+
+inline uint16_t halfBits(float value) {
+  const uint32_t bits = floatBits(value);
+  const uint32_t sign = (bits >> 16) & 0x8000u;
+  const uint32_t magnitude = bits & 0x7FFFFFFFu;
+  uint32_t half;
+  if (magnitude >= 0x47800000u) {  // >= 65536 (2^16), inf or NaN: all exponent bits set
+    half = magnitude > 0x7F800000u ? 0x7E00u : 0x7C00u;  // NaN -> quiet NaN, else inf
+  } else if (magnitude < 0x38800000u) {  // < 2^-14: the half is subnormal (or zero)
+    // Adding 0.5 aligns the float's mantissa so that its low bits are the half's subnormal
+    // mantissa (units of 2^-24); the FPU's own rounding of that sum is round-to-nearest-even.
+    half = floatBits(bitsFloat(magnitude) + 0.5f) - 0x3F000000u;
+  } else {
+    // Rebias the exponent (127 -> 15) and drop 13 mantissa bits, rounding to nearest even: add
+    // just under half an ulp, plus one when the kept part is odd. A carry into the exponent is
+    // the correct rounding up (to inf above 65519.99...).
+    const uint32_t odd = (magnitude >> 13) & 1u;
+    half = (magnitude - 0x38000000u + 0x0FFFu + odd) >> 13;
+  }
+  return static_cast<uint16_t>(half | sign);
+}
+
 inline float halfValue(uint64_t bits) {
-  openvdb::math::half h;
-  h.setBits(static_cast<unsigned short>(bits & 0xFFFFu));
-  return static_cast<float>(h);
+  const auto h = static_cast<uint32_t>(bits & 0xFFFFu);
+  const uint32_t sign = (h & 0x8000u) << 16;
+  const uint32_t shifted = (h & 0x7FFFu) << 13;  // exponent and mantissa in float position
+  const uint32_t exponent = h & 0x7C00u;
+  float magnitude;
+  if (exponent == 0x7C00u) {
+    magnitude = bitsFloat(shifted | 0x7F800000u);  // inf / NaN (payload kept)
+  } else if (exponent == 0) {
+    // Subnormal m * 2^-24: read the bits as 2^-14 * (1 + m / 1024) and subtract 2^-14, exactly.
+    magnitude = bitsFloat(shifted + 0x38800000u) - bitsFloat(0x38800000u);
+  } else {
+    magnitude = bitsFloat(shifted + 0x38000000u);  // rebias the exponent 15 -> 127
+  }
+  return bitsFloat(floatBits(magnitude) | sign);
 }
 inline uint64_t asBits(PackedVoxel v) { return static_cast<uint64_t>(v); }
 }  // namespace detail
