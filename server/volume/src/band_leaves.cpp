@@ -16,18 +16,49 @@ constexpr int kLeafLog2 = 3;  // leaves are 2^3 voxels wide
 // the path to the last mask leaf, and neighbouring rays hit neighbouring leaves, so marking is a
 // few nanoseconds and duplicates cost nothing. The trees are merged with a topology union.
 using KeyTree = openvdb::MaskTree;
+
+// Marks every unit cell that the segment a -> b passes through (a 3D DDA, Amanatides & Woo 1987):
+// from a's cell, step into the neighbour whose face the segment crosses first, until b's cell.
+// The band segment of one ray is about one leaf long, so this visits 1-4 cells where sampling
+// the segment at every voxel took 2 * truncation / voxel + 1 samples and could still clip a corner.
+template <typename Accessor>
+void markCellsOnSegment(const Eigen::Vector3f& a, const Eigen::Vector3f& b, Accessor& keys) {
+  openvdb::Coord cell(static_cast<int>(std::floor(a.x())), static_cast<int>(std::floor(a.y())),
+                      static_cast<int>(std::floor(a.z())));
+  const openvdb::Coord last(static_cast<int>(std::floor(b.x())), static_cast<int>(std::floor(b.y())),
+                            static_cast<int>(std::floor(b.z())));
+  constexpr float kNever = std::numeric_limits<float>::infinity();
+  int step[3];
+  float t_next[3], t_delta[3];  // segment parameter (0 at a, 1 at b) of the next face crossing
+  for (int i = 0; i < 3; ++i) {
+    const float delta = b[i] - a[i];
+    step[i] = delta > 0.0f ? 1 : (delta < 0.0f ? -1 : 0);
+    t_delta[i] = step[i] != 0 ? 1.0f / std::abs(delta) : kNever;
+    const float to_face = step[i] > 0 ? static_cast<float>(cell[i] + 1) - a[i] : a[i] - static_cast<float>(cell[i]);
+    t_next[i] = step[i] != 0 ? to_face * t_delta[i] : kNever;
+  }
+  keys.setValueOn(cell);
+  // Each step moves one cell closer to `last` along one axis; the bound only guards rounding.
+  const int max_steps = std::abs(last.x() - cell.x()) + std::abs(last.y() - cell.y()) + std::abs(last.z() - cell.z());
+  for (int n = 0; n < max_steps && cell != last; ++n) {
+    const int axis = t_next[0] <= t_next[1] ? (t_next[0] <= t_next[2] ? 0 : 2) : (t_next[1] <= t_next[2] ? 1 : 2);
+    cell[axis] += step[axis];
+    t_next[axis] += t_delta[axis];
+    keys.setValueOn(cell);
+  }
+  keys.setValueOn(last);  // in case rounding stopped the walk one cell short
+}
 }  // namespace
 
 std::vector<openvdb::Coord> bandLeafOrigins(const FrameView& frame, double voxel_size, double truncation,
                                             int pixel_stride) {
-  const float inv_voxel = static_cast<float>(1.0 / voxel_size);
   const float trunc = static_cast<float>(truncation);
-  // Step along each ray's band at one voxel so that no leaf on the segment is skipped.
-  const float step = static_cast<float>(voxel_size);
-  const int samples = static_cast<int>(std::ceil(2.0f * trunc / step)) + 1;
-  // Everything in voxel index units: index(z) = origin + z * direction(pixel).
-  const Eigen::Matrix3f rotation = frame.camera_to_world_rotation * inv_voxel;
-  const Eigen::Vector3f origin = frame.camera_to_world_translation * inv_voxel;
+  // Everything in leaf units, shifted by half a voxel: voxel i's cell is [i - 0.5, i + 0.5), so
+  // the leaf holding point p (voxel units) is floor((p + 0.5) / 8), the unit cell of q = (p + 0.5) / 8.
+  const float inv_leaf = static_cast<float>(1.0 / (voxel_size * (1 << kLeafLog2)));
+  const Eigen::Matrix3f rotation = frame.camera_to_world_rotation * inv_leaf;
+  const Eigen::Vector3f origin = frame.camera_to_world_translation * inv_leaf +
+                                 Eigen::Vector3f::Constant(0.5f / (1 << kLeafLog2));
 
   tbb::enumerable_thread_specific<KeyTree> trees;
   const int rows = (frame.height + pixel_stride - 1) / pixel_stride;
@@ -40,20 +71,11 @@ std::vector<openvdb::Coord> bandLeafOrigins(const FrameView& frame, double voxel
       for (int u = 0; u < frame.width; u += pixel_stride) {
         const float d = depth_row[u];
         if (!frame.validDepth(d)) continue;
-        const Eigen::Vector3f ray((u - frame.cx) / frame.fx, (v - frame.cy) / frame.fy, 1.0f);
-        const Eigen::Vector3f direction = rotation * ray;
-        const float z0 = std::max(d - trunc, 0.0f);
-        openvdb::Coord last(std::numeric_limits<int>::min());
-        for (int i = 0; i < samples; ++i) {
-          const float z = std::min(z0 + i * step, d + trunc);
-          const Eigen::Vector3f p = origin + direction * z;
-          // Voxel i's cell is [i - 0.5, i + 0.5): round to the nearest voxel, then to its leaf.
-          const openvdb::Coord key(static_cast<int>(std::floor(p.x() + 0.5f)) >> kLeafLog2,
-                                   static_cast<int>(std::floor(p.y() + 0.5f)) >> kLeafLog2,
-                                   static_cast<int>(std::floor(p.z() + 0.5f)) >> kLeafLog2);
-          if (key != last) keys.setValueOn(key);
-          last = key;
-        }
+        const Eigen::Vector3f direction =
+            rotation * Eigen::Vector3f((u - frame.cx) / frame.fx, (v - frame.cy) / frame.fy, 1.0f);
+        const Eigen::Vector3f a = origin + direction * std::max(d - trunc, 0.0f);
+        const Eigen::Vector3f b = origin + direction * (d + trunc);
+        markCellsOnSegment(a, b, keys);
       }
     }
   });
@@ -64,7 +86,7 @@ std::vector<openvdb::Coord> bandLeafOrigins(const FrameView& frame, double voxel
   origins.reserve(merged.activeVoxelCount());
   for (auto it = merged.cbeginValueOn(); it; ++it) {
     const openvdb::Coord key = it.getCoord();
-    origins.emplace_back(key.x() * 8, key.y() * 8, key.z() * 8);
+    origins.emplace_back(key.x() * (1 << kLeafLog2), key.y() * (1 << kLeafLog2), key.z() * (1 << kLeafLog2));
   }
   return origins;
 }
