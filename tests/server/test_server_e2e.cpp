@@ -173,6 +173,11 @@ TEST_F(ServerEndToEnd, RejectsBadInputCountsItAndKeepsServing) {
   const Frame& good = both.value().first;
   publishFrame(h, good);
   ASSERT_TRUE(h.waitPose("cam0", 0, 20s));
+  // The frames reader keeps the last 2 samples (DESIGN.md QoS): write the next bad frame only once
+  // the server has taken the previous one, so that each is rejected rather than overwritten.
+  auto received = [&](uint64_t n) {
+    return h.waitStatus([n](const auto& s) { return s.frames_received >= n; }, 20s)->frames_received >= n;
+  };
 
   {  // depth payload shorter than width * height * 2
     auto encoded = wire::encodeFrame(good, {"16UC1"});
@@ -180,6 +185,7 @@ TEST_F(ServerEndToEnd, RejectsBadInputCountsItAndKeepsServing) {
     encoded.value().msg().seq = 1;
     encoded.value().msg().depth._length -= 2;
     ASSERT_TRUE(h.frames().write(encoded.value().msg()).ok());
+    ASSERT_TRUE(received(2));
   }
   {  // NaN in the pose
     Frame nan_pose = good;
@@ -188,6 +194,7 @@ TEST_F(ServerEndToEnd, RejectsBadInputCountsItAndKeepsServing) {
     ASSERT_TRUE(encoded.ok());
     encoded.value().msg().camera_to_world[3] = std::nan("");
     ASSERT_TRUE(h.frames().write(encoded.value().msg()).ok());
+    ASSERT_TRUE(received(3));
   }
   {  // unknown depth encoding
     Frame odd = good;
@@ -196,6 +203,7 @@ TEST_F(ServerEndToEnd, RejectsBadInputCountsItAndKeepsServing) {
     ASSERT_TRUE(encoded.ok());
     encoded.value().msg().depth_encoding = const_cast<char*>("depth-as-gif");
     ASSERT_TRUE(h.frames().write(encoded.value().msg()).ok());
+    ASSERT_TRUE(received(4));
   }
   {  // segmentation for a camera that never sent a frame
     Segmentation stranger = both.value().second;
@@ -230,6 +238,7 @@ TEST_F(ServerEndToEnd, RejectsBadInputCountsItAndKeepsServing) {
   EXPECT_EQ(counterOf(status->rejected, "invalid_query"), 1u);
   EXPECT_EQ(status->frames_received, 4u);
   EXPECT_EQ(status->frames_integrated, 1u);
+  EXPECT_EQ(counterOf(status->dropped, "sequence_gap"), 0u);
   // Each rejection left a precise message in the status.
   std::string errors;
   for (uint32_t i = 0; i < status->last_errors._length; ++i) errors += std::string(status->last_errors._buffer[i].message) + "\n";

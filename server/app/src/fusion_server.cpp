@@ -191,17 +191,18 @@ void FusionServer::publishStatus() {
   if (Status ok = status_writer_.write(*sample); !ok) spdlog::debug("status: {}", ok.error());
 }
 
-StatusSnapshot FusionServer::snapshot() const {
-  StatusSnapshot s;
+ServerStatus FusionServer::snapshot() const {
+  ServerStatus s;
   s.server_id = config_.server_id;
+  s.version = SEMFUSE_VERSION;
   s.uptime_s = secondsSince(started_);
   s.frames_received = state_.frames_received;
   s.frames_integrated = state_.frames_integrated;
   s.frames_lost = state_.frames_lost;
   s.segmentations_received = state_.segmentations_received;
   s.segmentations_integrated = state_.segmentations_integrated;
-  s.dropped = state_.dropped.snapshot();
-  s.rejected = state_.rejected.snapshot();
+  for (const auto& c : state_.dropped.snapshot()) s.dropped.push_back({c.reason, c.camera_id, c.count});
+  for (const auto& c : state_.rejected.snapshot()) s.rejected.push_back({c.reason, c.camera_id, c.count});
   s.queued_frames = static_cast<uint32_t>(frames_.size());
   s.pending_segmentations = static_cast<uint32_t>(fusion_->pendingSegmentations());
   s.history_frames = static_cast<uint32_t>(fusion_->historyFrames());
@@ -213,13 +214,13 @@ StatusSnapshot FusionServer::snapshot() const {
   s.map_bytes = size.memory_bytes;
   s.rss_bytes = currentRssBytes();
   const auto now = std::chrono::steady_clock::now();
-  for (const auto& [id, activity] : state_.cameras()) {
-    StatusSnapshot::Camera camera{id, activity, 0.0f, false};
-    camera.last_frame_age_s = static_cast<float>(std::chrono::duration<double>(now - activity.last_frame_time).count());
-    camera.stale = camera.last_frame_age_s > config_.camera_stale_after_s;
-    s.cameras.push_back(camera);
+  for (const auto& [id, a] : state_.cameras()) {
+    const float age = static_cast<float>(std::chrono::duration<double>(now - a.last_frame_time).count());
+    s.cameras.push_back({id, a.tracking_state, a.last_seq, a.frames_received, a.frames_integrated, a.frames_lost,
+                         static_cast<float>(a.rate_hz), age, age > config_.camera_stale_after_s});
   }
-  s.last_errors = state_.errors.snapshot();
+  for (const auto& e : state_.errors.snapshot())
+    s.last_errors.push_back({std::chrono::duration<double>(e.time.time_since_epoch()).count(), e.source, e.message});
   s.map_file = config_.map_file;
   std::lock_guard lock(save_mutex_);
   s.last_save_ok = last_save_ok_;

@@ -32,7 +32,7 @@ class FusionServer {
   int run();
   void requestStop() { stop_requested_ = true; }
 
-  StatusSnapshot snapshot() const;
+  ServerStatus snapshot() const;
 
  private:
   void publishStatus();

@@ -130,6 +130,16 @@ void Mapper::reset() {
   ++revision_;
 }
 
+std::shared_ptr<const volume::LabeledVolume> Mapper::snapshot() const {
+  std::lock_guard snapshot_lock(snapshot_mutex_);
+  std::shared_lock lock(mutex_);
+  if (!snapshot_ || snapshot_revision_ != revision_) {
+    snapshot_ = std::make_shared<const volume::LabeledVolume>(volume_.deepCopy());
+    snapshot_revision_ = revision_;
+  }
+  return snapshot_;
+}
+
 Mapper::Size Mapper::size() const {
   std::shared_lock lock(mutex_);
   return {volume_.allocatedVoxels(), volume_.allocatedLeaves(), volume_.observedVoxels(), volume_.memoryBytes(),

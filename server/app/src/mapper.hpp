@@ -56,12 +56,18 @@ class Mapper {
   Result<volume::IntegrationStats> integrateSegmentation(const HistoryEntry& frame,
                                                           const Segmentation& segmentation);
 
-  // Runs `fn(volume)` under the shared lock.
+  // Runs `fn(volume)` under the shared lock: for quick reads (sizes, a few voxels).
   template <class Fn>
   auto read(Fn&& fn) const {
     std::shared_lock lock(mutex_);
     return fn(volume_);
   }
+
+  // A read-only copy of the map as of the latest write, for long queries (raycast, mesh,
+  // objects): they run on it without any lock, so they never hold off the fusion thread for
+  // longer than one copy (tens of ms) however long they take. Copies are shared between queries
+  // and made again only after the map changed.
+  std::shared_ptr<const volume::LabeledVolume> snapshot() const;
 
   const LabelLegend& legend() const { return options_.legend; }
   const volume::VolumeParams& volumeParams() const { return options_.volume; }
@@ -94,6 +100,10 @@ class Mapper {
   volume::LabeledVolume volume_;
   std::map<std::string, tracking::CameraTrackState> cameras_;  // fusion thread only
   uint64_t revision_ = 0;                        // guarded by mutex_
+
+  mutable std::mutex snapshot_mutex_;  // one copy at a time; guards the two below
+  mutable std::shared_ptr<const volume::LabeledVolume> snapshot_;
+  mutable uint64_t snapshot_revision_ = ~0ull;
 };
 
 }  // namespace semfuse::server

@@ -15,6 +15,11 @@ void ServerState::reject(const char* why, const std::string& camera_id, const st
 void ServerState::frameArrived(const std::string& camera_id, uint64_t seq, Clock::time_point now) {
   std::lock_guard lock(mutex_);
   CameraActivity& camera = cameras_[camera_id];
+  // Frames that DDS delivered to nobody (the reader's keep-last history overwrote them before the
+  // ingest thread took them, or the network lost them) show up as gaps in the camera's sequence.
+  // A sequence that goes backwards is a restarted camera, not a loss.
+  if (camera.frames_received > 0 && seq > camera.last_seq + 1)
+    dropped.add(reason::kSequenceGap, camera_id, seq - camera.last_seq - 1);
   if (camera.frames_received > 0) {
     const double dt = std::chrono::duration<double>(now - camera.last_frame_time).count();
     if (dt > 0.0) {

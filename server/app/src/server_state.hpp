@@ -17,6 +17,9 @@ namespace semfuse::server {
 // rejected (malformed or inconsistent). They appear verbatim in ServerStatus.
 namespace reason {
 inline constexpr const char* kQueueFull = "queue_full";                    // drop: newer frame came
+// Frames the ingest never saw, from gaps in a camera's sequence numbers: lost on the network or
+// overwritten in the DDS reader's history (or skipped on purpose by the camera, e.g. a stride).
+inline constexpr const char* kSequenceGap = "sequence_gap";
 inline constexpr const char* kPendingFull = "pending_full";                // drop: too many waiting
 inline constexpr const char* kSegmentationTimeout = "segmentation_timeout";  // drop: frame never came
 inline constexpr const char* kTrackingLost = "tracking_lost";              // frame not integrated

@@ -93,7 +93,7 @@ void Services::raycast(const semfuse_srv_dds__Raycast_Request_& request, semfuse
   render::RaycastOptions options;
   options.layers = request.layers;
   if (std::isfinite(request.max_range) && request.max_range > 0.0f) options.max_depth = request.max_range;
-  auto images = mapper_.read([&](const volume::LabeledVolume& v) { return render::raycast(v, intrinsics, pose, options); });
+  auto images = render::raycast(*mapper_.snapshot(), intrinsics, pose, options);
   if (!images.ok()) return refuse(reply, kInvalid, "raycast", images.error());
   const auto& im = images.value();
   fillImage(reply.depth, im.depth, "32FC1");
@@ -124,7 +124,7 @@ void Services::labelsAt(const semfuse_srv_dds__LabelsAt_Request_& request,
 void Services::region(const semfuse_srv_dds__Region_Request_& request, semfuse_srv_dds__Region_Response_& reply) {
   const Eigen::Vector3d min = toEigen(request.min), max = toEigen(request.max);
   if (Status ok = validBox(min, max); !ok) return refuse(reply, kInvalid, "region", ok.error());
-  auto summary = mapper_.read([&](const volume::LabeledVolume& v) { return summarizeRegion(v, min, max); });
+  auto summary = summarizeRegion(*mapper_.snapshot(), min, max);
   dds::resizeSequence(reply.histogram, summary.labels.size());
   size_t i = 0;
   for (const auto& [label, area] : summary.labels) reply.histogram._buffer[i++] = {label, area.surface_voxels, area.area_m2};
@@ -139,9 +139,7 @@ void Services::objects(const semfuse_srv_dds__Objects_Request_& request, semfuse
   if (request.label != kUnlabeled && !mapper_.legend().contains(request.label))
     return refuse(reply, kInvalid, "objects",
                   "label " + std::to_string(request.label) + " is not in the legend '" + mapper_.legend().name + "'");
-  auto found = mapper_.read([&](const volume::LabeledVolume& v) {
-    return findObjects(v, mapper_.legend(), request.label, request.min_voxels);
-  });
+  auto found = findObjects(*mapper_.snapshot(), mapper_.legend(), request.label, request.min_voxels);
   dds::resizeSequence(reply.objects, found.size());
   for (size_t i = 0; i < found.size(); ++i) {
     auto& o = reply.objects._buffer[i];
@@ -167,7 +165,7 @@ void Services::mesh(const semfuse_srv_dds__Mesh_Request_& request, semfuse_srv_d
       if (Status ok = validBox(min, max); !ok) return refuse(reply, kInvalid, "mesh", ok.error());
       options.bounds = render::WorldBounds{min, max};
     }
-    auto mesh = mapper_.read([&](const volume::LabeledVolume& v) { return render::extractMesh(v, options); });
+    auto mesh = render::extractMesh(*mapper_.snapshot(), options);
     if (!mesh.ok()) return refuse(reply, kInvalid, "mesh", mesh.error());
     auto bytes = render::plyBytes(mesh.value(), mapper_.legend());
     if (!bytes.ok()) return refuse(reply, kInternal, "mesh", bytes.error());

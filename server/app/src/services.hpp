@@ -24,7 +24,7 @@ namespace semfuse::server {
 
 class Services {
  public:
-  using SnapshotFn = std::function<StatusSnapshot()>;
+  using SnapshotFn = std::function<ServerStatus()>;
   using SaveFn = std::function<Status(const std::string& path)>;
 
   Services(const dds::Participant& participant, const ServerConfig& config, Mapper& mapper, FusionLoop& fusion,

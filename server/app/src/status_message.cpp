@@ -9,7 +9,7 @@
 
 namespace semfuse::server {
 namespace {
-void fillCounters(const std::vector<CounterEntry>& counters, dds_sequence_semfuse_msg_dds__Counter_& out) {
+void fillCounters(const std::vector<ReasonCount>& counters, dds_sequence_semfuse_msg_dds__Counter_& out) {
   dds::resizeSequence(out, counters.size());
   for (size_t i = 0; i < counters.size(); ++i) {
     dds::setString(out._buffer[i].reason, counters[i].reason);
@@ -19,14 +19,14 @@ void fillCounters(const std::vector<CounterEntry>& counters, dds_sequence_semfus
 }
 }  // namespace
 
-void fillStatusMessage(const StatusSnapshot& s, semfuse_msg_dds__ServerStatus_& out) {
+void fillStatusMessage(const ServerStatus& s, semfuse_msg_dds__ServerStatus_& out) {
   const auto now = std::chrono::system_clock::now().time_since_epoch();
   const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(now).count();
   out.header.stamp.sec = static_cast<int32_t>(ns / 1000000000);
   out.header.stamp.nanosec = static_cast<uint32_t>(ns % 1000000000);
   dds::setString(out.header.frame_id, "world");
   dds::setString(out.server_id, s.server_id);
-  dds::setString(out.version, SEMFUSE_VERSION);
+  dds::setString(out.version, s.version);
   out.uptime_s = s.uptime_s;
   out.frames_received = s.frames_received;
   out.frames_integrated = s.frames_integrated;
@@ -48,24 +48,23 @@ void fillStatusMessage(const StatusSnapshot& s, semfuse_msg_dds__ServerStatus_& 
   dds::resizeSequence(out.cameras, s.cameras.size());
   for (size_t i = 0; i < s.cameras.size(); ++i) {
     auto& c = out.cameras._buffer[i];
-    const auto& a = s.cameras[i].activity;
-    dds::setString(c.camera_id, s.cameras[i].id);
+    const CameraStatus& a = s.cameras[i];
+    dds::setString(c.camera_id, a.camera_id);
     c.tracking_state = a.tracking_state;
     c.last_seq = a.last_seq;
     c.frames_received = a.frames_received;
     c.frames_integrated = a.frames_integrated;
     c.frames_lost = a.frames_lost;
-    c.frame_rate_hz = static_cast<float>(a.rate_hz);
-    c.last_frame_age_s = s.cameras[i].last_frame_age_s;
-    c.stale = s.cameras[i].stale;
+    c.frame_rate_hz = a.frame_rate_hz;
+    c.last_frame_age_s = a.last_frame_age_s;
+    c.stale = a.stale;
   }
   dds::resizeSequence(out.last_errors, s.last_errors.size());
   for (size_t i = 0; i < s.last_errors.size(); ++i) {
     auto& e = out.last_errors._buffer[i];
-    const auto since = std::chrono::duration_cast<std::chrono::nanoseconds>(
-                           s.last_errors[i].time.time_since_epoch()).count();
-    e.stamp.sec = static_cast<int32_t>(since / 1000000000);
-    e.stamp.nanosec = static_cast<uint32_t>(since % 1000000000);
+    const double stamp = s.last_errors[i].stamp_s;
+    e.stamp.sec = static_cast<int32_t>(stamp);
+    e.stamp.nanosec = static_cast<uint32_t>((stamp - static_cast<double>(e.stamp.sec)) * 1e9);
     dds::setString(e.source, s.last_errors[i].source);
     dds::setString(e.message, s.last_errors[i].message);
   }

@@ -1,6 +1,6 @@
-#include "semfuse/client/server_status.hpp"
+#include "semfuse/core/server_status.hpp"
 
-namespace semfuse::client {
+namespace semfuse {
 
 const char* trackingStateName(uint8_t state) {
   switch (state) {
@@ -12,4 +12,4 @@ const char* trackingStateName(uint8_t state) {
   }
 }
 
-}  // namespace semfuse::client
+}  // namespace semfuse
