@@ -18,7 +18,7 @@ out="$root/out/demo"
 build=1
 build_dir="$root/build/release"
 noise=0.3
-rate=30
+rate=10
 usage() {
   sed -n '2,12p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
   echo "options: --dataset synthetic|7scenes  --frames N  --noise P  --rate HZ  --out DIR  --no-build  --build-dir DIR"
@@ -66,7 +66,7 @@ query() { "$bin/semfuse-query" "${dds[@]}" "$@"; }
 if [[ "$dataset" == synthetic ]]; then
   config="$root/deploy/demo/synthetic.yaml"
   source=(--source synthetic --frames "$frames" --rate "$rate")
-  segmenter=(--backend noise --base gt --noise "$noise" --noise-model pixel --seed 7 --every 2 --delay 300)
+  segmenter=(--backend noise --base gt --noise "$noise" --noise-model pixel --seed 7 --every 2 --delay 150)
   # Two overviews from opposite corners, looking at the table (camera-to-world, row-major 3x4).
   views=("0.6114475 0.4127809 -0.6750881 2.2 0.7912850 -0.3189671 0.5216590 -1.7 0 -0.8531541 -0.5216590 2.2"
          "-0.6050833 -0.2842128 0.7437051 -2.2 -0.7961622 0.2160017 -0.5652159 1.6 0 -0.9341126 -0.3569785 1.8")
