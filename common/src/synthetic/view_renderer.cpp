@@ -1,5 +1,7 @@
 #include "semfuse/synthetic/view_renderer.hpp"
 
+#include "semfuse/core/pose_check.hpp"
+
 #include <cmath>
 #include <string>
 
@@ -20,10 +22,7 @@ Status validateCamera(const PinholeIntrinsics& k, const Pose& camera_to_world) {
     return makeError("focal lengths must be positive and finite, got fx=" + std::to_string(k.fx) +
                      " fy=" + std::to_string(k.fy));
   if (!std::isfinite(k.cx) || !std::isfinite(k.cy)) return makeError("principal point is not finite");
-  if (!camera_to_world.matrix().allFinite()) return makeError("camera pose is not finite");
-  const Eigen::Matrix3d r = camera_to_world.linear();
-  if (!(r.transpose() * r).isIdentity(1e-6) || r.determinant() < 0.0)
-    return makeError("camera pose rotation is not a proper orthonormal matrix");
+  if (Status pose = checkRigidPose(camera_to_world); !pose) return makeError("camera " + pose.error());
   return Status::Ok();
 }
 

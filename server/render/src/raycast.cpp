@@ -1,5 +1,7 @@
 #include "semfuse/render/raycast.hpp"
 
+#include "semfuse/core/pose_check.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -25,11 +27,7 @@ Status validate(const volume::LabeledVolume& volume, const PinholeIntrinsics& k,
   if (!(k.fx > 0.0 && k.fy > 0.0 && std::isfinite(k.fx) && std::isfinite(k.fy) && std::isfinite(k.cx) &&
         std::isfinite(k.cy)))
     return makeError("raycast intrinsics must have finite, positive focal lengths and a finite principal point");
-  if (!camera_to_world.matrix().allFinite()) return makeError("raycast pose is not finite");
-  const Eigen::Matrix3d r = camera_to_world.linear();
-  // Poses read from text files (7-Scenes) are orthonormal to ~1e-4 only; that is still a rotation.
-  if (!(r.transpose() * r).isIdentity(1e-3) || r.determinant() < 0.0)
-    return makeError("raycast pose rotation is not a proper orthonormal matrix");
+  if (Status pose = checkRigidPose(camera_to_world); !pose) return makeError("raycast " + pose.error());
   if (!(options.min_depth >= 0.0 && options.max_depth > options.min_depth && std::isfinite(options.max_depth)))
     return makeError("raycast depth range must satisfy 0 <= min_depth < max_depth < inf");
   if ((options.layers & kAllLayers) == 0 || (options.layers & ~static_cast<uint32_t>(kAllLayers)) != 0)

@@ -10,6 +10,7 @@
 #include <opencv2/core/mat.hpp>
 
 #include "semfuse/core/legend.hpp"
+#include "semfuse/core/pose_check.hpp"
 #include "semfuse/core/result.hpp"
 #include "semfuse/core/types.hpp"
 
@@ -17,9 +18,8 @@ namespace semfuse::wire {
 
 // Largest accepted image side: bounds every allocation a message can cause.
 inline constexpr uint32_t kMaxImageSide = 8192;
-// Largest accepted |R^T R - I| (Frobenius). Real data needs slack: the 7-Scenes reference poses
-// are stored with errors up to ~2e-4.
-inline constexpr double kRotationTolerance = 1e-3;
+// The rigid-pose tolerance shared by every pose check (semfuse/core/pose_check.hpp).
+using semfuse::kRotationTolerance;
 
 // "depth: image size 0x480 is empty" / "depth: image size 9000x480 exceeds the 8192-pixel limit".
 Status validateImageSize(const std::string& what, int64_t width, int64_t height, uint32_t max_side = kMaxImageSide);
