@@ -1,5 +1,7 @@
 #include "cli_parse.hpp"
 
+#include <cstdlib>
+#include <filesystem>
 #include <iostream>
 
 #include "exit_codes.hpp"
@@ -34,6 +36,13 @@ void addCommonOptions(CLI::App& app, CommonOptions& options) {
                  std::string("log level: ") + logLevelNames() + " (default: $SEMFUSE_LOG_LEVEL or info)");
   app.add_option("--domain-id", options.domain_id, "DDS domain id (default: Cyclone's default domain)")
       ->check(CLI::Range(-1, 232));
+  app.add_option("--dds-profile", options.dds_profile,
+                 "Cyclone DDS XML profile, e.g. deploy/dds/lan.xml (default: $CYCLONEDDS_URI)")
+      ->check(CLI::ExistingFile)
+      ->each([](const std::string& path) {
+        const std::string uri = "file://" + std::filesystem::absolute(path).string();
+        ::setenv("CYCLONEDDS_URI", uri.c_str(), 1);
+      });
 }
 
 }  // namespace semfuse::tools

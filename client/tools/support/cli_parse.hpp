@@ -10,10 +10,13 @@ namespace semfuse::tools {
 // (0 after --help/--version, 2 after a usage error).
 int parseCommandLine(CLI::App& app, int argc, char** argv);
 
-// Adds --log-level and --domain-id (the options every program has).
+// Adds --log-level, --domain-id and --dds-profile (the options every program has).
+// --dds-profile sets CYCLONEDDS_URI while the command line is parsed, that is before the
+// program creates its participant (Cyclone reads the variable only then).
 struct CommonOptions {
   std::string log_level;
-  int domain_id = -1;  // -1 = Cyclone's default domain (CYCLONEDDS_URI or 0)
+  int domain_id = -1;       // -1 = Cyclone's default domain (CYCLONEDDS_URI or 0)
+  std::string dds_profile;  // Cyclone XML file; empty = $CYCLONEDDS_URI or Cyclone's defaults
 };
 void addCommonOptions(CLI::App& app, CommonOptions& options);
 
