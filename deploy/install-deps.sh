@@ -14,7 +14,9 @@ packages=(
   libspdlog-dev libfmt-dev
   libcli11-dev libyaml-cpp-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  libfastrtps-dev fastdds-tools fastddsgen  # tests/interop: an independent DDS peer (fastddsgen pulls in a JRE)
 )
+command -v npm >/dev/null 2>&1 || packages+=(npm)  # tests/interop/foxglove; nodesource's nodejs ships its own npm
 
 dry_run=0
 [[ "${1:-}" == "--dry-run" ]] && dry_run=1

@@ -90,6 +90,7 @@ FusionServer::FusionServer(ServerConfig config)
   fusion_ = std::make_unique<FusionLoop>(*mapper_, frames_, state_, limits,
                                          [this](const Frame& f, const FrameOutcome& o) { publishPose(f, o); });
   ingest_ = std::make_unique<Ingest>(participant_, frames_, *fusion_, state_, legend_);
+  if (config_.ros.enabled) ros_ingest_ = std::make_unique<RosIngest>(participant_, config_.ros, frames_, state_);
   services_ = std::make_unique<Services>(
       participant_, config_, *mapper_, *fusion_, state_, [this] { return snapshot(); },
       [this](const std::string& path) { return saveMap(path); });
@@ -99,6 +100,7 @@ FusionServer::~FusionServer() {
   // Order matters: no new input, no queries, then the fusion thread.
   services_.reset();
   if (ingest_) ingest_->stop();
+  if (ros_ingest_) ros_ingest_->stop();
   if (fusion_) fusion_->stop();
 }
 
@@ -108,6 +110,7 @@ int FusionServer::run() {
 
   fusion_->start();
   ingest_->start();
+  if (ros_ingest_) ros_ingest_->start();
   spdlog::info("serving on domain {}: voxel {} m, truncation {} m, legend '{}' ({} labels){}", config_.domain_id,
                config_.voxel_size, config_.truncation, legend_.name, legend_.labels.size(),
                config_.map_file.empty() ? "" : ", map " + config_.map_file);
@@ -134,6 +137,7 @@ int FusionServer::run() {
 
   spdlog::info("shutting down: finishing queued frames");
   ingest_->stop();
+  if (ros_ingest_) ros_ingest_->stop();
   for (int i = 0; i < 200 && !fusion_->idle(); ++i) std::this_thread::sleep_for(25ms);
   fusion_->stop();
   services_.reset();
@@ -183,6 +187,7 @@ void FusionServer::publishPose(const Frame& frame, const FrameOutcome& outcome) 
   pose.integrate_ms = static_cast<float>(outcome.integrate_ms);
   auto encoded = wire::encodeTrackedPose(pose);
   if (Status ok = pose_writer_.write(encoded.msg()); !ok) spdlog::debug("pose: {}", ok.error());
+  if (ros_ingest_) ros_ingest_->publishPose(frame, outcome);
 }
 
 void FusionServer::publishStatus() {

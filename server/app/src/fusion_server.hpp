@@ -11,6 +11,7 @@
 #include "fusion_loop.hpp"
 #include "ingest.hpp"
 #include "mapper.hpp"
+#include "ros_ingest.hpp"
 #include "semfuse/dds/participant.hpp"
 #include "semfuse/dds/topic.hpp"
 #include "semfuse/dds/writer.hpp"
@@ -50,6 +51,7 @@ class FusionServer {
   std::unique_ptr<Mapper> mapper_;
   std::unique_ptr<FusionLoop> fusion_;
   std::unique_ptr<Ingest> ingest_;
+  std::unique_ptr<RosIngest> ros_ingest_;  // with --ros-ingest only
   std::unique_ptr<Services> services_;
 
   dds::Topic<semfuse_msg_dds__TrackedPose_> pose_topic_;

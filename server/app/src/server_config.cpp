@@ -62,6 +62,8 @@ void addServerOptions(CLI::App& app, ServerConfig& c) {
       ->capture_default_str();
   app.add_option("--stale-after", c.camera_stale_after_s,
                  "a camera silent this long is reported stale")->group(status)->capture_default_str();
+
+  addRosOptions(app, c.ros);
 }
 
 }  // namespace semfuse::server

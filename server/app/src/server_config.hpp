@@ -7,6 +7,8 @@
 
 #include <CLI/App.hpp>
 
+#include "ros_config.hpp"
+
 namespace semfuse::server {
 
 struct ServerConfig {
@@ -47,6 +49,9 @@ struct ServerConfig {
   // Status
   double status_period_s = 1.0;
   double camera_stale_after_s = 3.0;
+
+  // ROS 2 standard topics as input, /tf as output (--ros-ingest, YAML section `ros:`)
+  RosIngestConfig ros;
 };
 
 // Declares every option on `app` (documented for --help), bound to `config`.
