@@ -4,7 +4,9 @@
 // 16UC1 + rgb8 colour + CameraInfo, sensor-data QoS, poses on /tf); semfuse-server --ros-ingest
 // must integrate it into a map whose geometry (and, with ground-truth segmentations, labels)
 // match the scene, and the peer must receive the server's /tf poses and status.
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <future>
 #include <map>
 #include <sstream>
@@ -183,6 +185,8 @@ TEST(FastDdsInterop, RosCameraOnFastDdsIsFusedAndHearsTfAndStatus) {
       ++labeled;
       label_agree += want == have;
     }
+  std::printf("raycast at frame 12.5: %d pixels with depth, %.1f%% within 2 cm; %.1f%% of %d labeled pixels right\n",
+              both, 100.0 * depth_close / std::max(both, 1), 100.0 * label_agree / std::max(labeled, 1), labeled);
   ASSERT_GT(both, k.width * k.height / 2) << "the map covers too little of the view";
   EXPECT_GE(static_cast<double>(depth_close) / both, 0.95) << depth_close << " of " << both;
   ASSERT_GT(labeled, both / 2);

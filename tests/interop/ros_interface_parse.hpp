@@ -5,6 +5,7 @@
 #pragma once
 
 #include <map>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,9 @@ struct Field {
   std::string name;
   bool operator==(const Field& o) const { return type == o.type && name == o.name; }
 };
+
+// gtest prints fields as "type name" instead of raw bytes.
+inline void PrintTo(const Field& f, std::ostream* os) { *os << f.type << " " << f.name; }
 
 struct Constant {
   std::string type;
