@@ -14,6 +14,7 @@ packages=(
   libspdlog-dev libfmt-dev
   libcli11-dev libyaml-cpp-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  clang libclang-rt-14-dev  # deploy/fuzz.sh: libFuzzer + sanitizers
   libfastrtps-dev fastdds-tools fastddsgen  # tests/interop: an independent DDS peer (fastddsgen pulls in a JRE)
 )
 command -v npm >/dev/null 2>&1 || packages+=(npm)  # tests/interop/foxglove; nodesource's nodejs ships its own npm

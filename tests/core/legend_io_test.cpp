@@ -58,6 +58,13 @@ TEST(LegendYaml, EachMistakeHasItsOwnMessage) {
   expectError(parseLegendYaml("name: x\nlabels: [{id: 1, name: a}]\nbackground: [3]"), "background id 3 is not a label");
   expectError(parseLegendYaml("name: x\nlabels: [{id: 1, nme: a}]"), "unknown label key 'nme'");
   expectError(parseLegendYaml("name: x\nlabel: [{id: 1, name: a}]"), "unknown key 'label'");
+  // Found by fuzz/targets/legend_yaml.cpp: these used to throw or to be accepted.
+  expectError(parseLegendYaml("{[1]: x}", "k.yaml"), "k.yaml:1:2: keys must be plain names");
+  expectError(parseLegendYaml("name: x\nlabels: [{[id]: 1, name: a}]"), "label keys must be plain names");
+  expectError(parseLegendYaml("name: x\nlabels: [{id: 1, name: \"wall\\nfloor\"}]"),
+              "the name of label 1 has a control character at byte 4");
+  expectError(parseLegendYaml("name: k\xe4\nlabels: [{id: 1, name: a}]"), "legend name is not valid UTF-8 at byte 1");
+  EXPECT_TRUE(parseLegendYaml("name: k\u00fcche\nlabels: [{id: 1, name: \"\u6905\u5b50\"}]").ok());
 }
 
 TEST(LegendYaml, ResolveTakesBuiltinNamesOrFiles) {

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 namespace semfuse::wire {
 namespace {
@@ -45,6 +46,22 @@ TEST(Validation, PngDeclaredSizeReadsTheHeader) {
   EXPECT_EQ(size.value(), cv::Size(640, 480));
   header[1] = 'X';
   EXPECT_FALSE(pngDeclaredSize(header.data(), header.size()).ok());
+}
+
+TEST(Validation, JpegDeclaredSizeIsReadFromTheFrameHeader) {
+  for (int progressive : {0, 1}) {
+    std::vector<uint8_t> jpeg;
+    ASSERT_TRUE(cv::imencode(".jpg", cv::Mat(10, 20, CV_8UC3, cv::Scalar(1, 2, 3)), jpeg,
+                             {cv::IMWRITE_JPEG_PROGRESSIVE, progressive}));
+    auto size = jpegDeclaredSize(jpeg.data(), jpeg.size());
+    ASSERT_TRUE(size.ok()) << size.error();
+    EXPECT_EQ(size.value(), cv::Size(20, 10));
+    // Cut just after the SOI and the first segment: no frame header left.
+    EXPECT_EQ(jpegDeclaredSize(jpeg.data(), 2 + 2 + ((jpeg[4] << 8) | jpeg[5])).error(),
+              "JPEG ends before its frame header");
+  }
+  const std::vector<uint8_t> garbage(64, 0x17);
+  EXPECT_EQ(jpegDeclaredSize(garbage.data(), garbage.size()).error(), "not a JPEG (no SOI marker)");
 }
 
 }  // namespace

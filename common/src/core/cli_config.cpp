@@ -110,8 +110,11 @@ YAML::Node appToYaml(const CLI::App& app, bool default_also) {
   for (const CLI::Option* option : app.get_options()) {
     if (!option->get_configurable() || option->get_lnames().empty() || option == app.get_config_ptr()) continue;
     std::vector<std::string> values = option->results();
-    if (values.empty() && default_also && !option->get_default_str().empty()) {
-      values.push_back(option->get_default_str());
+    // CLI11 shows an empty list default as "[]": written as a value it would read back as the
+    // one-element list "[]" and fail to convert, so an empty default is left out like no default.
+    const std::string default_str = option->get_default_str();
+    if (values.empty() && default_also && !default_str.empty() && default_str != "[]") {
+      values.push_back(default_str);
     }
     if (values.empty()) continue;
     YAML::Node value;

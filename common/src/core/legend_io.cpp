@@ -34,9 +34,27 @@ Result<long long> integerIn(const YAML::Node& node, long long low, long long hig
   return value;
 }
 
+// Names travel as DDS strings (UTF-8 for ROS 2), one per line in map files and through YAML,
+// so they must be valid UTF-8 without control characters (a newline would break the map file's
+// legend, invalid UTF-8 does not survive a YAML round trip).
+std::string nameProblem(const std::string& name) {
+  for (std::size_t i = 0; i < name.size();) {
+    const auto byte = static_cast<unsigned char>(name[i]);
+    if (byte < 0x20 || byte == 0x7f) return "has a control character at byte " + std::to_string(i);
+    const std::size_t length = byte < 0x80 ? 1 : (byte >> 5) == 0x6 ? 2 : (byte >> 4) == 0xe ? 3 : (byte >> 3) == 0x1e ? 4 : 0;
+    if (length == 0 || i + length > name.size()) return "is not valid UTF-8 at byte " + std::to_string(i);
+    for (std::size_t k = 1; k < length; ++k) {
+      if ((static_cast<unsigned char>(name[i + k]) & 0xc0) != 0x80) return "is not valid UTF-8 at byte " + std::to_string(i);
+    }
+    i += length;
+  }
+  return "";
+}
+
 }  // namespace
 
 Status validateLegend(const LabelLegend& legend) {
+  if (std::string problem = nameProblem(legend.name); !problem.empty()) return makeError("legend name " + problem);
   if (legend.labels.empty()) return makeError("legend '" + legend.name + "' has no labels");
   std::set<std::string> names;
   for (std::size_t i = 0; i < legend.labels.size(); ++i) {
@@ -46,6 +64,9 @@ Status validateLegend(const LabelLegend& legend) {
                        (label.id == legend.labels[i - 1].id ? " appears twice" : " is out of order (ids must be sorted)"));
     }
     if (label.name.empty()) return makeError("legend '" + legend.name + "': label " + std::to_string(label.id) + " has no name");
+    if (std::string problem = nameProblem(label.name); !problem.empty()) {
+      return makeError("legend '" + legend.name + "': the name of label " + std::to_string(label.id) + " " + problem);
+    }
     if (!names.insert(label.name).second) {
       return makeError("legend '" + legend.name + "': name '" + label.name + "' used by two labels");
     }
@@ -72,7 +93,9 @@ Result<LabelLegend> parseLegendYaml(const std::string& text, const std::string& 
   }
   if (!root.IsMap()) return makeError(source + ": a legend must be a map with 'name' and 'labels'");
   for (const auto& entry : root) {
-    const std::string key = entry.first.as<std::string>();
+    // as<std::string>() throws on a key that is a list or a map; that is an error in the file.
+    if (!entry.first.IsScalar()) return makeError(where(source, entry.first) + ": keys must be plain names");
+    const std::string key = entry.first.Scalar();
     if (key != "name" && key != "labels" && key != "background") {
       return makeError(where(source, entry.first) + ": unknown key '" + key + "' (known: name, labels, background)");
     }
@@ -88,7 +111,8 @@ Result<LabelLegend> parseLegendYaml(const std::string& text, const std::string& 
   for (const YAML::Node& item : labels) {
     if (!item.IsMap()) return makeError(where(source, item) + ": each label must be a map {id, name, color}");
     for (const auto& entry : item) {
-      const std::string key = entry.first.as<std::string>();
+      if (!entry.first.IsScalar()) return makeError(where(source, entry.first) + ": label keys must be plain names");
+      const std::string key = entry.first.Scalar();
       if (key != "id" && key != "name" && key != "color") {
         return makeError(where(source, entry.first) + ": unknown label key '" + key + "' (known: id, name, color)");
       }

@@ -119,14 +119,14 @@ Result<cv::Mat> decodeColor(const semfuse_msg_dds__Frame_& msg, uint32_t width, 
     return encoding == "rgb8" ? image : swapRedBlue(image);
   }
   const std::string format = encoding == "jpeg" ? "JPEG" : "PNG";
-  if (encoding == "png") {
-    auto declared = pngDeclaredSize(sequenceData(msg.color), bytes);
-    if (!declared) return makeError("color: PNG payload does not decode: " + declared.error());
-    if (declared.value() != cv::Size(w, h)) {
-      return makeError("color: PNG declares " + std::to_string(declared.value().width) + "x" +
-                       std::to_string(declared.value().height) + ", frame declares " + std::to_string(w) + "x" +
-                       std::to_string(h));
-    }
+  // The size the payload declares, checked before decoding: the decoder allocates what it says.
+  auto declared = encoding == "png" ? pngDeclaredSize(sequenceData(msg.color), bytes)
+                                    : jpegDeclaredSize(sequenceData(msg.color), bytes);
+  if (!declared) return makeError("color: " + format + " payload does not decode: " + declared.error());
+  if (declared.value() != cv::Size(w, h)) {
+    return makeError("color: " + format + " declares " + std::to_string(declared.value().width) + "x" +
+                     std::to_string(declared.value().height) + ", frame declares " + std::to_string(w) + "x" +
+                     std::to_string(h));
   }
   if (bytes == 0) return makeError("color: empty " + format + " payload");
   const cv::Mat payload(1, static_cast<int>(bytes), CV_8UC1, const_cast<uint8_t*>(sequenceData(msg.color)));

@@ -131,12 +131,15 @@ Result<cv::Mat> compressedImageToMat(const sensor_msgs_msg_dds__CompressedImage_
     return makeError(s.error());
   }
   if (msg.data._length == 0) return makeError("compressed image: empty payload");
-  if (png) {
-    auto declared = pngDeclaredSize(msg.data._buffer, msg.data._length);
-    if (!declared) return makeError("compressed image: PNG payload does not decode: " + declared.error());
-    if (Status s = validateImageSize("compressed image", declared.value().width, declared.value().height); !s) {
-      return makeError(s.error());
-    }
+  // The declared size is bounded before decoding: the decoder allocates what the header says.
+  auto declared = png ? pngDeclaredSize(msg.data._buffer, msg.data._length)
+                      : jpegDeclaredSize(msg.data._buffer, msg.data._length);
+  if (!declared) {
+    return makeError(std::string("compressed image: ") + (png ? "PNG" : "JPEG") + " payload does not decode: " +
+                     declared.error());
+  }
+  if (Status s = validateImageSize("compressed image", declared.value().width, declared.value().height); !s) {
+    return makeError(s.error());
   }
   const cv::Mat payload(1, static_cast<int>(msg.data._length), CV_8UC1, msg.data._buffer);
   cv::Mat decoded;

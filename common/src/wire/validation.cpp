@@ -107,6 +107,35 @@ Result<cv::Size> pngDeclaredSize(const uint8_t* data, std::size_t size) {
   return cv::Size(static_cast<int>(width), static_cast<int>(height));
 }
 
+Result<cv::Size> jpegDeclaredSize(const uint8_t* data, std::size_t size) {
+  if (data == nullptr || size < 4 || data[0] != 0xFF || data[1] != 0xD8) return makeError("not a JPEG (no SOI marker)");
+  const auto be16 = [&](std::size_t at) { return static_cast<uint32_t>((data[at] << 8) | data[at + 1]); };
+  std::size_t at = 2;
+  while (at + 4 <= size) {
+    if (data[at] != 0xFF) return makeError("not a JPEG (bytes between segments at offset " + std::to_string(at) + ")");
+    const uint8_t marker = data[at + 1];
+    if (marker == 0xFF) {  // fill byte before a marker
+      ++at;
+      continue;
+    }
+    if (marker == 0x01 || (marker >= 0xD0 && marker <= 0xD7)) {  // TEM, RSTn: no length
+      at += 2;
+      continue;
+    }
+    if (marker == 0xD9 || marker == 0xDA) return makeError("JPEG has no frame header before its scan data");
+    // SOF0..SOF15 except DHT (C4), JPG (C8) and DAC (CC): precision (1), height (2), width (2).
+    const bool frame_header = marker >= 0xC0 && marker <= 0xCF && marker != 0xC4 && marker != 0xC8 && marker != 0xCC;
+    if (frame_header) {
+      if (at + 9 > size) break;
+      return cv::Size(static_cast<int>(be16(at + 7)), static_cast<int>(be16(at + 5)));
+    }
+    const uint32_t length = be16(at + 2);  // includes its own two bytes
+    if (length < 2) return makeError("JPEG segment with length " + std::to_string(length));
+    at += 2 + length;
+  }
+  return makeError("JPEG ends before its frame header");
+}
+
 Status validateSegmentationSize(uint32_t seg_width, uint32_t seg_height, uint32_t frame_width, uint32_t frame_height) {
   if (seg_width > frame_width || seg_height > frame_height) {
     return makeError("segmentation: " + size(seg_width, seg_height) + " is larger than its frame " +

@@ -48,6 +48,10 @@ Status validateDecodedImage(const std::string& what, const std::string& format, 
 // The size a PNG declares in its header (checked before decoding, so that a small payload cannot
 // make the decoder allocate a huge image). Error when the bytes are not a PNG.
 Result<cv::Size> pngDeclaredSize(const uint8_t* data, std::size_t size);
+// The same for a JPEG: the size in its first frame header (SOFn), found by walking the marker
+// segments as a decoder does. Without it a 300-byte JPEG declaring 30000x30000 pixels makes
+// OpenCV allocate gigabytes before the size can be compared with the frame's.
+Result<cv::Size> jpegDeclaredSize(const uint8_t* data, std::size_t size);
 
 // A segmentation may be smaller than its frame, never larger.
 Status validateSegmentationSize(uint32_t seg_width, uint32_t seg_height, uint32_t frame_width, uint32_t frame_height);
