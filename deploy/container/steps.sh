@@ -1,16 +1,16 @@
 #!/usr/bin/env bash
 # The steps of the container recipe (deploy/container/Containerfile), one per subcommand, so
 # that CI runs the very same commands without a container engine (deploy/container/check-recipe.sh).
-#   steps.sh deps                      Debian packages (deploy/install-deps.sh) + runtime extras
+#   steps.sh deps                      Debian packages (deploy/install-deps.sh)
 #   steps.sh build BUILD_DIR           configure and build (Release)
-#   steps.sh install BUILD_DIR PREFIX  programs to PREFIX/bin, DDS profiles and PKI script to
-#                                      PREFIX/share/semfuse
+#   steps.sh install BUILD_DIR PREFIX  programs to PREFIX/bin; DDS profiles, PKI script and
+#                                      systemd units to PREFIX/share/semfuse; docs/deploy.md
 #   steps.sh user NAME                 the unprivileged user the programs run as, state in /var/lib/semfuse
 #   steps.sh smoke PREFIX [USER]       server + synthetic camera + query as USER over loopback: the
 #                                      installed programs work without root
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
-usage() { sed -n '2,11p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; }
+usage() { sed -n '2,10p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; }
 
 step="${1:-}"; shift || true
 case "$step" in
@@ -29,6 +29,7 @@ case "$step" in
     cp "$root"/deploy/dds/*.xml "$root"/deploy/dds/roudi.toml "$root"/deploy/dds/make-profile.sh "$2/share/semfuse/dds/"
     cp "$root"/deploy/pki/make-pki.sh "$2/share/semfuse/pki/"
     cp "$root"/deploy/systemd/* "$2/share/semfuse/systemd/"
+    install -D -m 644 "$root/docs/deploy.md" "$2/share/doc/semfuse/deploy.md"  # the units' Documentation=
     for program in semfuse-server semfuse-camera semfuse-segmenter semfuse-query; do
       [[ -x "$2/bin/$program" ]] || { echo "steps: $program was not installed to $2/bin" >&2; exit 1; }
     done

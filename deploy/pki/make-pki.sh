@@ -16,7 +16,7 @@
 # and governance.p7s.
 #   deploy/pki/make-pki.sh OUT [--days N] [--org NAME]
 set -euo pipefail
-usage() { sed -n '2,19p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; }
+usage() { sed -n '2,17p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; }
 
 out=""
 days=365
