@@ -31,7 +31,7 @@ trap cleanup EXIT
 
 # --- three hosts on a bridge (the bridge lives in a namespace of its own: the machine's own
 # network is not touched) --------------------------------------------------------------------
-ip netns add "$hub"
+ip netns add "$hub" 2>"$work/logs/netns.log" || skip "cannot create network namespaces: $(cat "$work/logs/netns.log") (needs CAP_NET_ADMIN)"
 ip -n "$hub" link add br0 type bridge
 ip -n "$hub" link set br0 up
 for h in "${hosts[@]}"; do

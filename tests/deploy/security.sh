@@ -39,6 +39,8 @@ capture() {  # capture FILE: tcpdump on loopback in the background
   tcpdump -i lo -U -s 0 -w "$1" udp >"$work/logs/tcpdump.log" 2>&1 &
   capture_pid=$!
   sleep 1
+  # Without CAP_NET_RAW tcpdump exits at once: no capture, not a failure of the encryption.
+  kill -0 "$capture_pid" 2>/dev/null || { capture_pid=""; say "tcpdump cannot capture: $(tail -1 "$work/logs/tcpdump.log")"; return 1; }
 }
 stop_capture() { [[ -n "$capture_pid" ]] && { kill -INT "$capture_pid"; wait "$capture_pid" || true; capture_pid=""; }; }
 
@@ -72,7 +74,7 @@ else
   plain_domain=$(( domain + 1 ))
   CYCLONEDDS_URI="file://$source_dir/deploy/dds/localhost.xml" launch plain-server "$server_exe" --domain-id "$plain_domain" \
     --legend synthetic --voxel-size 0.04 --truncation 0.16
-  capture "$work/plain.pcap"
+  capture "$work/plain.pcap" || fail "tcpdump captured the secure run but not the plaintext one"
   CYCLONEDDS_URI="file://$source_dir/deploy/dds/localhost.xml" "$camera_exe" --domain-id "$plain_domain" "${camera_args[@]}" \
     --camera-id permitted --wait-server 20 >"$work/logs/plain-camera.log" 2>&1 || fail "the plaintext camera failed"
   stop_capture
