@@ -9,6 +9,7 @@
 #include <map>
 
 #include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
 
 #include "../server/server_harness.hpp"
 #include "interop_support.hpp"
@@ -329,7 +330,8 @@ TEST_F(FoxgloveInterop, FoxgloveReadsWhatSemfuseEncodes) {
 TEST_F(FoxgloveInterop, ServerIntegratesFramesFoxgloveSerialized) {
   ServerHarness h(interopDomain());
   h.startServer({"--legend", "synthetic", "--voxel-size", "0.02", "--truncation", "0.08", "--ros-ingest",
-                 "--ros.camera-id", "fox-ros", "--ros.world-frame", "map", "--ros.wait", "2"});
+                 "--ros.camera-id", "fox-ros", "--ros.world-frame", "map", "--ros.wait", "2",
+                 "--ros.compressed-color-topic", "/camera/color/image_raw/compressed"});
   const auto& p = h.participant();
   dds::Topic<sensor_msgs_msg_dds__CameraInfo_> info_topic(p, "rt/camera/depth/camera_info");
   dds::Topic<sensor_msgs_msg_dds__Image_> depth_topic(p, "rt/camera/depth/image_raw");
@@ -341,6 +343,9 @@ TEST_F(FoxgloveInterop, ServerIntegratesFramesFoxgloveSerialized) {
   dds::RawWriter<sensor_msgs_msg_dds__Image_> color(color_topic, dds::qos::sensorData());
   dds::RawWriter<tf2_msgs_msg_dds__TFMessage_> tf(tf_topic, dds::Qos().reliable(DDS_SECS(2)).keepLast(100));
   dds::RawWriter<semfuse_msg_dds__Frame_> frames(frame_topic, dds::qos::frames());
+  dds::Topic<sensor_msgs_msg_dds__CompressedImage_> compressed_topic(p, "rt/camera/color/image_raw/compressed");
+  dds::RawWriter<sensor_msgs_msg_dds__CompressedImage_> compressed(compressed_topic, dds::qos::sensorData());
+  ASSERT_TRUE(compressed.waitForReaders(1, DDS_SECS(30)));
   ASSERT_TRUE(info.waitForReaders(1, DDS_SECS(30)));
   ASSERT_TRUE(depth.waitForReaders(1, DDS_SECS(30)));
   ASSERT_TRUE(color.waitForReaders(1, DDS_SECS(30)));
@@ -376,6 +381,35 @@ TEST_F(FoxgloveInterop, ServerIntegratesFramesFoxgloveSerialized) {
   EXPECT_NEAR(used.translation().y(), -1.25, 1e-9);
   EXPECT_NEAR(used.linear()(1, 0), 1.0, 1e-9);
 
+  // Frame 2, 100 ms later: 32FC1 depth (1.2 m) with a PNG-compressed colour image, and its tf.
+  std::string tf2_flat = kTf;
+  tf2_flat.replace(tf2_flat.find("nanosec=123456789"), 17, "nanosec=223456789");
+  tf2_flat.replace(tf2_flat.find("translation.x=0.5"), 17, "translation.x=0.6");
+  std::string depth32_flat =
+      "header.stamp.sec=1700000000\nheader.stamp.nanosec=223456789\nheader.frame_id=\"camera_optical\"\n"
+      "height=48\nwidth=64\nencoding=\"32FC1\"\nis_bigendian=0\nstep=256\ndata=[";
+  for (int i = 0; i < 64 * 48; ++i) depth32_flat += std::string(i ? "," : "") + "154,153,153,63";  // 1.2f
+  depth32_flat += "]\n";
+  std::vector<uint8_t> png;
+  ASSERT_TRUE(cv::imencode(".png", cv::Mat(48, 64, CV_8UC3, cv::Scalar(50, 100, 200)), png));
+  std::string png_flat =
+      "header.stamp.sec=1700000000\nheader.stamp.nanosec=223456789\nheader.frame_id=\"camera_optical\"\n"
+      "format=\"rgb8; png compressed bgr8\"\ndata=[";
+  for (size_t i = 0; i < png.size(); ++i) png_flat += (i ? "," : "") + std::to_string(png[i]);
+  png_flat += "]\n";
+  ASSERT_TRUE(tf.write(foxgloveEncode("tf2_msgs/TFMessage", tf2_flat)).ok());
+  ASSERT_TRUE(compressed.write(foxgloveEncode("sensor_msgs/CompressedImage", png_flat)).ok());
+  ASSERT_TRUE(depth.write(foxgloveEncode("sensor_msgs/Image", depth32_flat)).ok());
+  auto second = h.waitPose("fox-ros", 2, 30s);
+  ASSERT_TRUE(second) << "the 32FC1 + PNG frame was not integrated";
+  EXPECT_TRUE((*second)->integrated);
+  EXPECT_NEAR(wire::poseFromRowMajor((*second)->camera_to_world).translation().x(), 0.6, 1e-9);
+
+  // Frame 3 has no colour: after --ros.wait it is dropped, and counted as ros_no_color.
+  std::string lonely = depth32_flat;
+  lonely.replace(lonely.find("nanosec=223456789"), 17, "nanosec=323456789");
+  ASSERT_TRUE(depth.write(foxgloveEncode("sensor_msgs/Image", lonely)).ok());
+
   // A native frame from foxglove's bytes (a 2x1 frame is too small to integrate anything, but
   // it must be decoded, accepted and given its pose).
   std::string frame_flat = kFrame;
@@ -385,10 +419,12 @@ TEST_F(FoxgloveInterop, ServerIntegratesFramesFoxgloveSerialized) {
   ASSERT_TRUE(native) << "the native frame was not processed";
   EXPECT_NEAR(wire::poseFromRowMajor((*native)->camera_to_world).translation().z(), 0.3, 1e-12);
 
-  auto status = h.waitStatus([](const auto& s) { return s.frames_received >= 2; }, 10s);
+  auto status = h.waitStatus([](const auto& s) { return counterTotal(s.dropped) >= 1; }, 20s);
   ASSERT_NE(status.get(), nullptr);
+  EXPECT_EQ(status->frames_received, 4u);  // three ROS depth images and the native frame
   EXPECT_EQ(counterTotal(status->rejected), 0u);
-  EXPECT_EQ(counterTotal(status->dropped), 0u);
+  EXPECT_EQ(counterOf(status->dropped, "ros_no_color"), 1u);
+  EXPECT_EQ(counterTotal(status->dropped), 1u);
   EXPECT_GE(status->allocated_voxels, 1000u);  // the wall of the ROS frame
   EXPECT_EQ(h.stopServer(), 0);
 }
