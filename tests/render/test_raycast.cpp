@@ -115,6 +115,29 @@ TEST_F(RaycastTest, EmptySpaceSkippingFindsTheSameSurface) {
   EXPECT_GT(same, 0.995 * hit);
 }
 
+// A camera inside the sphere's band (2 cm off its surface) looking down at the floor: leaves reach
+// behind its image plane, so the per-tile depth bounds cannot project them and must open every
+// tile from the near clip on. Rays must still find what the plain march finds.
+TEST_F(RaycastTest, SkippingFromInsideTheMapFindsTheSameSurface) {
+  const Pose inside = synthetic::lookAt({-0.22, 0.05, 0.35}, {-0.5, 0.05, 0.0});
+  RaycastOptions skip{kDepthLayer};
+  skip.min_depth = 0.01;
+  RaycastOptions march = skip;
+  march.skip_empty_space = false;
+  const auto a = raycast(volume_, testing::kSmallCamera, inside, skip).value();
+  const auto b = raycast(volume_, testing::kSmallCamera, inside, march).value();
+  int same = 0, hit = 0;
+  for (int v = 0; v < a.depth.rows; ++v)
+    for (int u = 0; u < a.depth.cols; ++u) {
+      const float da = a.depth.at<float>(v, u), db = b.depth.at<float>(v, u);
+      if (da <= 0 && db <= 0) continue;
+      ++hit;
+      same += std::abs(da - db) < 0.1 * kVoxel ? 1 : 0;
+    }
+  ASSERT_GT(hit, 1000);
+  EXPECT_GT(same, 0.995 * hit);
+}
+
 TEST_F(RaycastTest, AnyResolutionOnlyRequestedLayers) {
   const auto small = raycast(volume_, testing::kSmallCamera.scaled(0.25), novel_, {kDepthLayer}).value();
   EXPECT_EQ(small.depth.cols, 80);

@@ -98,14 +98,17 @@ int unobservedBlockDim(const LeafNode& leaf, const openvdb::Coord& ijk) {
   return 1;
 }
 
-// Ray parameter where o + t d leaves the aligned cube of edge `dim` that holds voxel `ijk`.
-double exitOfBlock(const openvdb::Coord& ijk, int dim, const Eigen::Vector3d& o, const Eigen::Vector3d& d) {
+// Ray parameter where o + t d leaves the aligned cube of edge `dim` that holds voxel `ijk`;
+// inv_d = 1 / d per axis (infinite along an axis the ray does not move on), computed once per
+// ray so that a skip multiplies instead of dividing.
+double exitOfBlock(const openvdb::Coord& ijk, int dim, const Eigen::Vector3d& o, const Eigen::Vector3d& d,
+                   const Eigen::Vector3d& inv_d) {
   double t_exit = std::numeric_limits<double>::infinity();
   for (int axis = 0; axis < 3; ++axis) {
     if (d[axis] == 0.0) continue;
     const int lo = ijk[axis] & ~(dim - 1);
     const double face = d[axis] > 0.0 ? lo + dim : lo;
-    t_exit = std::min(t_exit, (face - o[axis]) / d[axis]);
+    t_exit = std::min(t_exit, (face - o[axis]) * inv_d[axis]);
   }
   return t_exit;
 }
@@ -160,9 +163,12 @@ bool RayMarcher::findSurface(const MarchRay& ray, double& t_surface) {
   // The ray in index space, once: t keeps its meaning (camera depth).
   const Eigen::Vector3d o = ray.origin * inv_voxel_size_;
   const Eigen::Vector3d d = ray.direction * inv_voxel_size_;
+  const Eigen::Vector3d inv_d = d.cwiseInverse();
   const double voxels_per_t = d.norm();
-  const double min_step = kMinStepVoxels / voxels_per_t;
-  const double nudge = kFaceNudgeVoxels / voxels_per_t;
+  const double t_per_voxel = 1.0 / voxels_per_t;
+  const double min_step = kMinStepVoxels * t_per_voxel;
+  const double nudge = kFaceNudgeVoxels * t_per_voxel;
+  const double tsdf_step_scale = kTsdfStepFraction * t_per_voxel;
 
   bool have_positive = false;  // previous sample valid and in front of a surface
   double t_prev = 0.0;
@@ -182,7 +188,7 @@ bool RayMarcher::findSurface(const MarchRay& ray, double& t_surface) {
           if (const LowerNode* node = accessor_.probeConstNode<LowerNode>(base)) skip = emptyLeafBlockDim(*node, base);
       }
       if (skip > 0) {
-        t = std::max(t, exitOfBlock(base, skip, o, d)) + nudge;
+        t = std::max(t, exitOfBlock(base, skip, o, d, inv_d)) + nudge;
         have_positive = false;
         continue;
       }
@@ -216,7 +222,7 @@ bool RayMarcher::findSurface(const MarchRay& ray, double& t_surface) {
     have_positive = f > 0.0f;
     t_prev = t;
     f_prev = f;
-    t += f > 0.0f ? std::max(min_step, kTsdfStepFraction * f / voxels_per_t) : min_step;
+    t += f > 0.0f ? std::max(min_step, tsdf_step_scale * f) : min_step;
   }
   return false;
 }

@@ -5,12 +5,14 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <string>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include "ray_marcher.hpp"
+#include "tile_depth_bounds.hpp"
 #include "semfuse/volume/volume_sampler.hpp"
 
 namespace semfuse::render {
@@ -119,6 +121,11 @@ Result<RaycastImages> raycast(const volume::LabeledVolume& volume, const Pinhole
 
   const Eigen::Matrix3d rotation = camera_to_world.linear();
   const Eigen::Vector3d origin = camera_to_world.translation();
+  // With skipping, each ray marches only between the nearest and farthest observed leaf that
+  // covers its tile; the baseline clips to the allocated box and marches the rest.
+  std::optional<detail::TileDepthBounds> tiles;
+  if (options.skip_empty_space)
+    tiles.emplace(volume, k, camera_to_world, options.min_depth, options.max_depth);
   // Rows in small chunks: rays through empty space cost far less than rays through the band, so
   // fine-grained tasks balance the two cores.
   tbb::parallel_for(tbb::blocked_range<int>(0, k.height, 4), [&](const tbb::blocked_range<int>& rows) {
@@ -128,6 +135,12 @@ Result<RaycastImages> raycast(const volume::LabeledVolume& volume, const Pinhole
       for (int u = 0; u < k.width; ++u) {
         MarchRay ray{origin, rotation * Eigen::Vector3d((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0),
                      options.min_depth, options.max_depth};
+        if (tiles) {
+          double near, far;
+          if (!tiles->depthRange(u, v, near, far)) continue;
+          ray.t_min = std::max(ray.t_min, near);
+          ray.t_max = std::min(ray.t_max, far);
+        }
         double t;
         if (clipToBox(bounds, ray) && marcher.findSurface(ray, t))
           shadePixel(sampler, ray, t, options.layers, images, u, v);
