@@ -64,6 +64,7 @@ TEST(LegendYaml, EachMistakeHasItsOwnMessage) {
   expectError(parseLegendYaml("name: x\nlabels: [{id: 1, name: \"wall\\nfloor\"}]"),
               "the name of label 1 has a control character at byte 4");
   expectError(parseLegendYaml("name: k\xe4\nlabels: [{id: 1, name: a}]"), "legend name is not valid UTF-8 at byte 1");
+  expectError(parseLegendYaml("name: x\nlabels: [{name: a}]", "m.yaml"), "m.yaml: label id must be an integer");
   EXPECT_TRUE(parseLegendYaml("name: k\u00fcche\nlabels: [{id: 1, name: \"\u6905\u5b50\"}]").ok());
 }
 

@@ -71,6 +71,12 @@ TEST(Cdr, ShortInputIsRejected) {
   EXPECT_NE(r.error().find("shorter than the 4-byte CDR header"), std::string::npos) << r.error();
 }
 
+TEST(Cdr, HeaderWithoutBodyIsRejected) {  // found by fuzz/targets/frame_cdr.cpp (UBSan)
+  auto r = deserialize<semfuse_msg_dds__Frame_>(Bytes{0x00, 0x00, 0x0c, 0x00});
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().find("no CDR body after the header"), std::string::npos) << r.error();
+}
+
 TEST(Cdr, UnknownEncapsulationIsRejected) {
   auto r = deserialize<builtin_interfaces_msg_dds__Time_>(Bytes{0x00, 0x07, 0, 0, 1, 0, 0, 0, 2, 0, 0, 0});
   ASSERT_FALSE(r.ok());

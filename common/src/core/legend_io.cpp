@@ -12,6 +12,7 @@ namespace semfuse {
 namespace {
 
 std::string where(const std::string& source, const YAML::Node& node) {
+  if (!node.IsDefined()) return source;  // a missing key: Mark() would throw YAML::InvalidNode
   const YAML::Mark mark = node.Mark();
   if (mark.line < 0) return source;
   return source + ":" + std::to_string(mark.line + 1) + ":" + std::to_string(mark.column + 1);

@@ -49,6 +49,9 @@ Status deserialize(const dds_topic_descriptor_t& descriptor, const uint8_t* byte
   }
   const std::size_t body = size - kHeaderSize;
   if (body > std::numeric_limits<uint32_t>::max()) return makeError(type + ": sample larger than 4 GiB");
+  // Every wire type has at least one member, so a header alone is malformed (and an empty body
+  // would hand Cyclone a null buffer, which its normalizer declares it never gets).
+  if (body == 0) return makeError(type + ": no CDR body after the header");
   // Normalizing validates every length against the buffer and swaps big-endian data in place,
   // so it needs a private, writable copy.
   std::vector<char> data(bytes + kHeaderSize, bytes + size);
