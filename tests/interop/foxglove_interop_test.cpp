@@ -346,6 +346,10 @@ TEST_F(FoxgloveInterop, ServerIntegratesFramesFoxgloveSerialized) {
   dds::Topic<sensor_msgs_msg_dds__CompressedImage_> compressed_topic(p, "rt/camera/color/image_raw/compressed");
   dds::RawWriter<sensor_msgs_msg_dds__CompressedImage_> compressed(compressed_topic, dds::qos::sensorData());
   ASSERT_TRUE(compressed.waitForReaders(1, DDS_SECS(30)));
+  // What the server publishes on /tf (not this process's own writes).
+  dds::Qos tf_reader_qos = dds::Qos().reliable(DDS_SECS(2)).keepLast(100);
+  dds_qset_ignorelocal(tf_reader_qos.get(), DDS_IGNORELOCAL_PARTICIPANT);
+  dds::Reader<tf2_msgs_msg_dds__TFMessage_> server_tf(tf_topic, tf_reader_qos);
   ASSERT_TRUE(info.waitForReaders(1, DDS_SECS(30)));
   ASSERT_TRUE(depth.waitForReaders(1, DDS_SECS(30)));
   ASSERT_TRUE(color.waitForReaders(1, DDS_SECS(30)));
@@ -425,6 +429,9 @@ TEST_F(FoxgloveInterop, ServerIntegratesFramesFoxgloveSerialized) {
   EXPECT_EQ(counterTotal(status->rejected), 0u);
   EXPECT_EQ(counterOf(status->dropped, "ros_no_color"), 1u);
   EXPECT_EQ(counterTotal(status->dropped), 1u);
+  // --ros.publish-tf tracked (the default): poses that came from tf are not echoed on /tf.
+  EXPECT_GE(server_tf.matchedWriters(), 1);
+  EXPECT_FALSE(server_tf.take().has_value());
   EXPECT_GE(status->allocated_voxels, 1000u);  // the wall of the ROS frame
   EXPECT_EQ(h.stopServer(), 0);
 }
