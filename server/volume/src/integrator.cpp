@@ -12,19 +12,21 @@
 
 #include "band_leaves.hpp"
 #include "frame_view.hpp"
-#include "semfuse/volume/label_fusion.hpp"
+#include "semfuse/volume/label_rules.hpp"
 
 namespace semfuse::volume {
 namespace {
 using detail::FrameView;
 using GeometryLeaf = GeometryGrid::TreeType::LeafNodeType;
 using ColorLeaf = ColorGrid::TreeType::LeafNodeType;
+using LabelSidecarLeaf = LabelSidecarGrid::TreeType::LeafNodeType;
 constexpr int kLeafDim = static_cast<int>(GeometryLeaf::DIM);
 
-// One leaf to update: its geometry and (when the volume has colour) its colour twin.
+// One leaf to update: its geometry and (when the volume has them) its colour and label-sidecar twins.
 struct LeafPair {
   GeometryLeaf* geometry;
   ColorLeaf* color;
+  LabelSidecarLeaf* label_sidecar = nullptr;
 };
 
 // Labels that never change a voxel: 0 and the background set. A bitset makes the per-voxel test
@@ -44,6 +46,7 @@ struct KernelConfig {
   float max_weight;
   float max_score;
   const IgnoredLabels* ignored;
+  LabelRuleConfig label_rule;
 };
 
 struct KernelCounts {
@@ -146,7 +149,8 @@ KernelCounts updateLeaf(const LeafPair& leaf, const FrameView& frame, const Kern
           if (!(*config.ignored)[observed] && w > 0.0f && std::isfinite(w)) {
             auto label = static_cast<LabelId>(bits >> 32);
             float score = volume::detail::halfValue(bits >> 48);
-            fuseLabelEvidence(label, score, observed, w, config.max_score);
+            PackedLabelSidecar* sidecar = leaf.label_sidecar ? leaf.label_sidecar->buffer().data() + offset : nullptr;
+            applyLabelRule(config.label_rule, label, score, sidecar, observed, w);
             bits = (bits & uint64_t{0xFFFFFFFF}) | (uint64_t{label} << 32) |
                    (uint64_t{volume::detail::halfBits(score)} << 48);
             ++counts.labeled;
@@ -191,7 +195,7 @@ std::size_t countValidPixels(const FrameView& frame) {
 
 KernelConfig kernelConfig(const VolumeParams& params, const IgnoredLabels* ignored) {
   return {static_cast<float>(params.voxel_size), static_cast<float>(params.truncation), params.max_weight,
-          params.max_label_score, ignored};
+          params.max_label_score, ignored, params.labelRuleConfig()};
 }
 
 }  // namespace
@@ -218,13 +222,17 @@ Result<IntegrationStats> integrate(LabeledVolume& volume, const cv::Mat& depth, 
   ColorGrid* color_grid = volume.mutableColorGrid();
   std::unique_ptr<ColorGrid::Accessor> colors;
   if (color_grid) colors = std::make_unique<ColorGrid::Accessor>(color_grid->getAccessor());
+  LabelSidecarGrid* sidecar_grid = volume.mutableLabelSidecarGrid();
+  std::unique_ptr<LabelSidecarGrid::Accessor> sidecars;
+  if (sidecar_grid) sidecars = std::make_unique<LabelSidecarGrid::Accessor>(sidecar_grid->getAccessor());
   for (const openvdb::Coord& origin : origins) {
     GeometryLeaf* leaf = geometry.probeLeaf(origin);
     if (!leaf) {
       leaf = geometry.touchLeaf(origin);
       ++stats.leaves_allocated;
     }
-    leaves.push_back({leaf, colors ? colors->touchLeaf(origin) : nullptr});
+    leaves.push_back({leaf, colors ? colors->touchLeaf(origin) : nullptr,
+                      sidecars ? sidecars->touchLeaf(origin) : nullptr});
   }
 
   const std::unique_ptr<IgnoredLabels> ignored = ignoredLabels(params);
@@ -265,8 +273,11 @@ Result<IntegrationStats> integrateLabels(LabeledVolume& volume, const cv::Mat& d
   std::vector<LeafPair> leaves;
   leaves.reserve(origins.size());
   auto geometry = volume.mutableGeometryGrid().getAccessor();
+  LabelSidecarGrid* sidecar_grid = volume.mutableLabelSidecarGrid();
   for (const openvdb::Coord& origin : origins)
-    if (GeometryLeaf* leaf = geometry.probeLeaf(origin)) leaves.push_back({leaf, nullptr});
+    if (GeometryLeaf* leaf = geometry.probeLeaf(origin))
+      // Sidecar leaves were allocated with their geometry leaf (same topology), so touch finds them.
+      leaves.push_back({leaf, nullptr, sidecar_grid ? sidecar_grid->tree().touchLeaf(origin) : nullptr});
 
   const std::unique_ptr<IgnoredLabels> ignored = ignoredLabels(params);
   updateLeaves<false, false, true>(leaves, frame, kernelConfig(params, ignored.get()), stats);

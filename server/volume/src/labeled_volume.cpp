@@ -26,12 +26,18 @@ LabeledVolume::LabeledVolume(const VolumeParams& params) : params_(params) {
     color_->setTransform(voxelTransform(params_.voxel_size));
     color_->setName("color");
   }
+  if (usesLabelSidecar(params_.label_rule)) {
+    label_sidecar_ = LabelSidecarGrid::create(0);
+    label_sidecar_->setTransform(voxelTransform(params_.voxel_size));
+    label_sidecar_->setName("label_candidates");
+  }
 }
 
 LabeledVolume LabeledVolume::deepCopy() const {
   LabeledVolume copy(params_);
   copy.geometry_ = geometry_->deepCopy();
   if (color_) copy.color_ = color_->deepCopy();
+  if (label_sidecar_) copy.label_sidecar_ = label_sidecar_->deepCopy();
   copy.frames_integrated_ = frames_integrated_;
   return copy;
 }
@@ -54,6 +60,7 @@ Rgb8 LabeledVolume::color(const openvdb::Coord& ijk) const {
 void LabeledVolume::clear() {
   geometry_->clear();
   if (color_) color_->clear();
+  if (label_sidecar_) label_sidecar_->clear();
   frames_integrated_ = 0;
 }
 

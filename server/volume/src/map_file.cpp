@@ -64,6 +64,50 @@ Result<std::vector<LabelInfo>> decodeLegend(const std::string& text) {
   return labels;
 }
 
+template <typename T>
+Result<T> required(const openvdb::MetaMap& meta, const std::string& key) {
+  const auto value = meta.getMetadata<openvdb::TypedMetadata<T>>(key);
+  if (!value) return makeError("metadata '" + key + "' is missing or has the wrong type");
+  return value->value();
+}
+
+// FNV-1a over the label sidecar's leaf origins and values (version 2 files with a top-3 rule).
+uint64_t sidecarChecksum(const LabelSidecarGrid::TreeType& tree) {
+  uint64_t hash = 14695981039346656037ull;
+  auto mix = [&hash](uint64_t value) {
+    for (int byte = 0; byte < 8; ++byte) {
+      hash ^= (value >> (8 * byte)) & 0xFFu;
+      hash *= 1099511628211ull;
+    }
+  };
+  for (auto leaf = tree.cbeginLeaf(); leaf; ++leaf) {
+    const openvdb::Coord origin = leaf->origin();
+    mix(static_cast<uint64_t>(static_cast<uint32_t>(origin.x())) << 32 | static_cast<uint32_t>(origin.y()));
+    mix(static_cast<uint32_t>(origin.z()));
+    const PackedLabelSidecar* values = leaf->buffer().data();
+    for (openvdb::Index i = 0; i < LabelSidecarGrid::TreeType::LeafNodeType::SIZE; ++i)
+      mix(static_cast<uint64_t>(values[i]));
+  }
+  return hash;
+}
+
+// The label rule and its parameters; files written before rules existed (version 1) fused with
+// the paper's evidence rule and the defaults.
+Status readLabelRule(const openvdb::MetaMap& meta, VolumeParams& params) {
+  const auto rule = meta.getMetadata<openvdb::StringMetadata>("semfuse:label_rule");
+  if (!rule) return Status::Ok();
+  auto parsed = parseLabelRule(rule->value());
+  if (!parsed) return makeError("metadata 'semfuse:label_rule': " + parsed.error());
+  params.label_rule = parsed.value();
+  auto likelihood = required<float>(meta, "semfuse:label_likelihood");
+  if (!likelihood) return makeError(likelihood.error());
+  auto classes = required<int32_t>(meta, "semfuse:label_classes");
+  if (!classes) return makeError(classes.error());
+  params.label_likelihood = likelihood.value();
+  params.label_classes = classes.value();
+  return Status::Ok();
+}
+
 openvdb::MetaMap fileMetadata(const LabeledVolume& volume, const LabelLegend& legend, const std::string& legend_text,
                               uint64_t checksum, const MapExtraMetadata& extra) {
   const VolumeParams& p = volume.params();
@@ -77,6 +121,12 @@ openvdb::MetaMap fileMetadata(const LabeledVolume& volume, const LabelLegend& le
   meta.insertMeta("semfuse:max_depth", openvdb::FloatMetadata(p.max_depth));
   meta.insertMeta("semfuse:background_labels", openvdb::StringMetadata(joinIds(p.background_labels)));
   meta.insertMeta("semfuse:integrate_color", openvdb::BoolMetadata(p.integrate_color));
+  meta.insertMeta("semfuse:label_rule", openvdb::StringMetadata(labelRuleName(p.label_rule)));
+  meta.insertMeta("semfuse:label_likelihood", openvdb::FloatMetadata(p.label_likelihood));
+  meta.insertMeta("semfuse:label_classes", openvdb::Int32Metadata(p.label_classes));
+  if (const LabelSidecarGrid* sidecar = volume.labelSidecarGrid())
+    meta.insertMeta("semfuse:label_sidecar_checksum",
+                    openvdb::Int64Metadata(static_cast<int64_t>(sidecarChecksum(sidecar->tree()))));
   meta.insertMeta("semfuse:frames_integrated", openvdb::Int64Metadata(static_cast<int64_t>(volume.framesIntegrated())));
   meta.insertMeta("semfuse:legend_name", openvdb::StringMetadata(legend.name));
   meta.insertMeta("semfuse:legend", openvdb::StringMetadata(legend_text));
@@ -84,13 +134,6 @@ openvdb::MetaMap fileMetadata(const LabeledVolume& volume, const LabelLegend& le
   meta.insertMeta("semfuse:checksum", openvdb::Int64Metadata(static_cast<int64_t>(checksum)));
   for (const auto& [key, value] : extra) meta.insertMeta(kExtraPrefix + key, openvdb::StringMetadata(value));
   return meta;
-}
-
-template <typename T>
-Result<T> required(const openvdb::MetaMap& meta, const std::string& key) {
-  const auto value = meta.getMetadata<openvdb::TypedMetadata<T>>(key);
-  if (!value) return makeError("metadata '" + key + "' is missing or has the wrong type");
-  return value->value();
 }
 
 // --- atomic write ---------------------------------------------------------------------------
@@ -194,6 +237,7 @@ Result<LoadedMap> readMap(const fs::path& path) {
   params.max_depth = max_depth.value();
   params.background_labels = background_ids.value();
   params.integrate_color = color.value();
+  if (Status rule = readLabelRule(*meta, params); !rule) return makeError(rule.error());
   auto created = LabeledVolume::create(params);
   if (!created) return makeError(created.error());
   if (frames.value() < 0) return makeError("metadata 'semfuse:frames_integrated' is negative");
@@ -218,6 +262,22 @@ Result<LoadedMap> readMap(const fs::path& path) {
       static_cast<uint64_t>(checksum.value()))
     return makeError("voxel checksum mismatch: the file is corrupt");
 
+  LabelSidecarGrid::Ptr sidecar_grid;
+  if (usesLabelSidecar(params.label_rule)) {
+    sidecar_grid = findGrid<LabelSidecarGrid>(*grids, "label_candidates");
+    if (!sidecar_grid)
+      return makeError(std::string("the map fuses labels with the '") + labelRuleName(params.label_rule) +
+                       "' rule but its int64 grid 'label_candidates' is missing");
+    bool same_leaves = sidecar_grid->tree().leafCount() == packed.value()->leafCount();
+    for (auto leaf = packed.value()->cbeginLeaf(); same_leaves && leaf; ++leaf)
+      same_leaves = sidecar_grid->tree().probeConstLeaf(leaf->origin()) != nullptr;
+    if (!same_leaves) return makeError("the 'label_candidates' grid's leaves differ from the tsdf's");
+    auto sidecar_sum = required<int64_t>(*meta, "semfuse:label_sidecar_checksum");
+    if (!sidecar_sum) return makeError(sidecar_sum.error());
+    if (sidecarChecksum(sidecar_grid->tree()) != static_cast<uint64_t>(sidecar_sum.value()))
+      return makeError("label sidecar checksum mismatch: the file is corrupt");
+  }
+
   auto legend_labels = decodeLegend(legend_text.value());
   if (!legend_labels) return makeError(legend_labels.error());
   auto legend_bg = parseIds(legend_background.value(), "semfuse:legend_background");
@@ -227,6 +287,7 @@ Result<LoadedMap> readMap(const fs::path& path) {
                 {}, version.value()};
   map.volume.mutableGeometryGrid().setTree(packed.value());
   if (color_grid) map.volume.mutableColorGrid()->setTree(color_grid->treePtr());
+  if (sidecar_grid) map.volume.mutableLabelSidecarGrid()->setTree(sidecar_grid->treePtr());
   map.volume.setFramesIntegrated(static_cast<uint64_t>(frames.value()));
   for (auto it = meta->beginMeta(); it != meta->endMeta(); ++it)
     if (it->first.rfind(kExtraPrefix, 0) == 0 && it->second) map.extra[it->first.substr(6)] = it->second->str();
@@ -242,6 +303,7 @@ Status saveMap(const LabeledVolume& volume, const LabelLegend& legend, const fs:
   const detail::MapLayers layers = detail::splitLayers(volume);
   openvdb::GridCPtrVec grids{layers.tsdf, layers.weight, layers.score, layers.label};
   if (volume.colorGrid()) grids.push_back(volume.colorGridPtr());
+  if (volume.labelSidecarGrid()) grids.push_back(volume.labelSidecarGridPtr());
   const uint64_t checksum = detail::voxelChecksum(volume.geometryGrid().tree(),
                                                   volume.colorGrid() ? &volume.colorGrid()->tree() : nullptr);
   return writeAtomically(path, grids, fileMetadata(volume, legend, legend_text.value(), checksum, extra));

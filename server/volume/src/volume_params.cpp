@@ -25,6 +25,12 @@ Status VolumeParams::validate() const {
     return makeError("max_weight must be in [1, 2048] (stored as half float), got " + num(max_weight));
   if (!std::isfinite(max_label_score) || max_label_score <= 0.0f || max_label_score > kHalfExactIntegerLimit)
     return makeError("max_label_score must be in (0, 2048] (stored as half float), got " + num(max_label_score));
+  if (label_classes < 2 || label_classes > 65535)
+    return makeError("label_classes must be in [2, 65535], got " + std::to_string(label_classes));
+  if (!std::isfinite(label_likelihood) || label_likelihood <= 1.0f / static_cast<float>(label_classes) ||
+      label_likelihood >= 1.0f)
+    return makeError("label_likelihood must be above chance (1/label_classes) and below 1, got " +
+                     num(label_likelihood));
   if (!std::isfinite(min_depth) || !std::isfinite(max_depth) || min_depth <= 0.0f || max_depth <= min_depth)
     return makeError("depth range must satisfy 0 < min_depth < max_depth, got [" + num(min_depth) + ", " +
                      num(max_depth) + "]");
@@ -33,6 +39,16 @@ Status VolumeParams::validate() const {
 
 bool VolumeParams::isBackground(LabelId label) const {
   return std::find(background_labels.begin(), background_labels.end(), label) != background_labels.end();
+}
+
+LabelRuleConfig VolumeParams::labelRuleConfig() const {
+  LabelRuleConfig config;
+  config.rule = label_rule;
+  config.max_score = max_label_score;
+  config.label_classes = static_cast<float>(label_classes);
+  config.likelihood = label_likelihood;
+  config.full_confidence_log_ratio = bayesLogRatio(1.0f, config.label_classes, config.likelihood);
+  return config;
 }
 
 }  // namespace semfuse::volume

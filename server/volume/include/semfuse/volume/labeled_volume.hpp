@@ -1,6 +1,7 @@
 #pragma once
-// LabeledVolume: the sparse labeled TSDF. Owns the packed geometry+label grid and the optional
-// colour grid (same topology), and knows the voxel <-> world mapping. Voxel (i,j,k) has its centre
+// LabeledVolume: the sparse labeled TSDF. Owns the packed geometry+label grid, the optional
+// colour grid and the optional label sidecar grid of the top-3 label rules (label_rules.hpp; both
+// with the geometry's topology), and knows the voxel <-> world mapping. Voxel (i,j,k) has its centre
 // at world (i,j,k) * voxel_size, OpenVDB's cell-centred linear transform.
 //
 // Integration, sampling and files are free functions / small classes over this type
@@ -60,7 +61,8 @@ class LabeledVolume {
   std::size_t observedVoxels() const { return geometry_->tree().activeVoxelCount(); }
   std::size_t geometryMemoryBytes() const { return geometry_->memUsage(); }
   std::size_t colorMemoryBytes() const { return color_ ? color_->memUsage() : 0; }
-  std::size_t memoryBytes() const { return geometryMemoryBytes() + colorMemoryBytes(); }
+  std::size_t labelSidecarMemoryBytes() const { return label_sidecar_ ? label_sidecar_->memUsage() : 0; }
+  std::size_t memoryBytes() const { return geometryMemoryBytes() + colorMemoryBytes() + labelSidecarMemoryBytes(); }
 
   void clear();
   uint64_t framesIntegrated() const { return frames_integrated_; }
@@ -72,14 +74,19 @@ class LabeledVolume {
   GeometryGrid::ConstPtr geometryGridPtr() const { return geometry_; }
   const ColorGrid* colorGrid() const { return color_.get(); }
   ColorGrid::ConstPtr colorGridPtr() const { return color_; }
-  // Mutable access for the integrator and the map loader; keep the two topologies identical.
+  // The label rule's runners-up; null when the rule keeps none (evidence).
+  const LabelSidecarGrid* labelSidecarGrid() const { return label_sidecar_.get(); }
+  LabelSidecarGrid::ConstPtr labelSidecarGridPtr() const { return label_sidecar_; }
+  // Mutable access for the integrator and the map loader; keep the topologies identical.
   GeometryGrid& mutableGeometryGrid() { return *geometry_; }
   ColorGrid* mutableColorGrid() { return color_.get(); }
+  LabelSidecarGrid* mutableLabelSidecarGrid() { return label_sidecar_.get(); }
 
  private:
   VolumeParams params_;
   GeometryGrid::Ptr geometry_;
   ColorGrid::Ptr color_;
+  LabelSidecarGrid::Ptr label_sidecar_;
   uint64_t frames_integrated_ = 0;
 };
 

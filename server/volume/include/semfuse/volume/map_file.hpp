@@ -4,9 +4,10 @@
 //   weight FloatGrid, score FloatGrid (both saved as half floats, their exact in-memory precision)
 //   label  Int32Grid
 //   color  Int32Grid 0x00RRGGBB (only when the volume has colour)
+//   label_candidates  Int64Grid, the runners-up of a top-3 label rule (only for those rules)
 // all with the same topology, plus file metadata: format version, voxel size, truncation and the
-// other VolumeParams, the label legend, frames integrated, a checksum of the packed voxels, and
-// the caller's extra key/value strings.
+// other VolumeParams (the label rule since version 2), the label legend, frames integrated,
+// checksums of the packed voxels and the sidecar, and the caller's extra key/value strings.
 // Save is atomic (temporary file in the same folder, fsync, rename, fsync of the folder).
 // Load reads into a new volume: a corrupt or truncated file gives an error and touches nothing.
 // save -> load reproduces the packed voxels bit for bit.
@@ -20,7 +21,8 @@
 
 namespace semfuse::volume {
 
-inline constexpr int kMapFormatVersion = 1;
+// 2: label rule metadata and the label sidecar grid; version 1 files load as the evidence rule.
+inline constexpr int kMapFormatVersion = 2;
 
 using MapExtraMetadata = std::map<std::string, std::string>;
 

@@ -5,6 +5,7 @@
 
 #include "semfuse/core/legend.hpp"
 #include "semfuse/core/result.hpp"
+#include "semfuse/volume/label_rules.hpp"
 
 namespace semfuse::volume {
 
@@ -23,6 +24,15 @@ struct VolumeParams {
   // 16 also keeps the half-float score's resolution (1/128 near the clamp) below typical increments.
   float max_label_score = 16.0f;
 
+  // How labels are fused (label_rules.hpp). evidence is the paper's rule; the top-3 rules cost a
+  // sidecar grid of 8 more bytes per voxel. max_label_score is every rule's W_clamp (in
+  // full-confidence observations for majority and bayes).
+  LabelRule label_rule = LabelRule::kEvidence;
+  // The bayes rule's likelihood: a full-confidence pixel label is right with probability
+  // label_likelihood (Kimera-Semantics uses 0.9), a wrong one is any of label_classes - 1 others.
+  float label_likelihood = 0.9f;
+  int label_classes = 20;
+
   float min_depth = 0.1f;  // metres; depth outside [min_depth, max_depth] is ignored
   float max_depth = 5.0f;
 
@@ -33,6 +43,7 @@ struct VolumeParams {
 
   Status validate() const;
   bool isBackground(LabelId label) const;
+  LabelRuleConfig labelRuleConfig() const;
 };
 
 }  // namespace semfuse::volume
