@@ -195,8 +195,10 @@ bool RayMarcher::findSurface(const MarchRay& ray, double& t_surface) {
     }
     float f;
     if (!sampleAt(leaf, base, x, f)) {
+      // Every point of this cell reads the same 8 corners, so none of them gives a valid sample:
+      // with skipping on, leave the cell instead of stepping half a voxel.
       have_positive = false;
-      t += min_step;
+      t = skip_empty_space_ ? std::max(t, exitOfBlock(base, 1, o, d, inv_d)) + nudge : t + min_step;
       continue;
     }
     if (f <= 0.0f && have_positive) {
