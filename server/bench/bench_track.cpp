@@ -6,6 +6,7 @@
 // Frames are decoded / rendered outside the timed region; "tracking" is one trackFrame() call
 // (pyramid, alignment, quality checks), "integration" one integrate() call.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <functional>
 #include <memory>
@@ -38,6 +39,20 @@ struct TrackBenchOptions {
   // trajectory error measures how far depth alignment and reference disagree frame by frame,
   // without accumulated drift.
   bool oracle_map = false;
+  // Diagnostic: start every alignment at the frame's reference pose (refinement) instead of the
+  // motion prediction; with --oracle-map this measures how far the depth pulls each reference pose.
+  bool oracle_guess = false;
+  // Diagnostic: multiply every depth reading (tests a depth scale error of the sensor).
+  double depth_scale = 1.0;
+  // Diagnostic: focal length (fx = fy, pixels) instead of the dataset's camera-intrinsics.txt.
+  double focal = 0.0;
+  // Diagnostic: pair depth frame i with the reference pose of frame i + pose_offset (tests whether
+  // depth and reference poses are synchronised).
+  int pose_offset = 0;
+  // Diagnostic: how well each trajectory (tracked and reference) agrees with the depth locally.
+  bool consistency = false;
+  // Per-frame CSV (status, errors against the reference, quality) for plotting.
+  std::string trace;
   tracking::TrackerParams tracker;
   std::string loss = "huber";
 };
@@ -48,12 +63,22 @@ using FrameSource = std::function<Result<Frame>(std::size_t)>;
 struct RunResult {
   std::vector<Pose> estimate, reference;
   Timings tracking, integration;
+  Timings tracking_cpu;  // process CPU time of the same calls (all threads): less sensitive to load
   std::size_t lost = 0;
   std::size_t frames = 0;
 };
 
 Result<RunResult> trackSequence(const FrameSource& source, std::size_t frames, const volume::VolumeParams& params,
-                                const tracking::TrackerParams& tracker_params, bool oracle_map, bool verbose) {
+                                const tracking::TrackerParams& tracker_params, const TrackBenchOptions& options) {
+  const bool oracle_map = options.oracle_map;
+  const bool verbose = options.verbose;
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> trace(nullptr, &std::fclose);
+  if (!options.trace.empty()) {
+    trace.reset(std::fopen(options.trace.c_str(), "w"));
+    if (!trace) return makeError("cannot write trace " + options.trace);
+    std::fprintf(trace.get(), "frame,status,err_mm,rot_err_deg,ref_step_mm,step_err_mm,step_rot_err_deg,"
+                              "inlier_ratio,rms_mm,rcond,iterations,track_ms,est_pose_3x4,ref_pose_3x4\n");
+  }
   RunResult run;
   volume::LabeledVolume map(params);
   const tracking::VolumeField field(map);
@@ -68,14 +93,22 @@ Result<RunResult> trackSequence(const FrameSource& source, std::size_t frames, c
     if (i == 0) {
       state.initial_pose = reference;  // the only reference pose the tracker ever sees
     }
-    frame.camera_to_world.reset();
+    if (options.depth_scale != 1.0) frame.depth.convertTo(frame.depth, CV_32F, options.depth_scale);
+    if (!options.oracle_guess || i == 0) frame.camera_to_world.reset();
 
     Stopwatch track_watch;
-    Result<tracking::TrackedFrame> tracked = tracking::trackFrame(tracker, frame, field, state);
+    CpuStopwatch track_cpu;
+    Result<tracking::TrackedFrame> tracked =
+        tracking::trackFrame(tracker, frame, field, state,
+                             options.oracle_guess ? tracking::GivenPosePolicy::kRefine : tracking::GivenPosePolicy::kUseAsIs);
     const double track_ms = track_watch.elapsedMs();
+    const double track_cpu_ms = track_cpu.elapsedMs();
     if (!tracked) return makeError("frame " + std::to_string(i) + ": " + tracked.error());
     const tracking::TrackedFrame& t = tracked.value();
-    if (i > 0) run.tracking.add(track_ms);
+    if (i > 0) {
+      run.tracking.add(track_ms);
+      run.tracking_cpu.add(track_cpu_ms);
+    }
     if (t.shouldIntegrate()) {
       Stopwatch integrate_watch;
       auto stats = volume::integrate(map, frame.depth, cv::Mat(), frame.intrinsics,
@@ -92,11 +125,98 @@ Result<RunResult> trackSequence(const FrameSource& source, std::size_t frames, c
                   t.quality.rms_residual_m * 1e3, t.quality.hessian_rcond, t.quality.iterations, track_ms,
                   (t.pose.translation() - reference.translation()).norm() * 1e3,
                   run.reference.empty() ? 0.0 : (reference.translation() - run.reference.back().translation()).norm() * 1e3);
+    if (trace) {
+      const Pose error = reference.inverse() * t.pose;
+      Pose step_error = Pose::Identity();
+      double ref_step = 0.0;
+      if (!run.reference.empty()) {
+        const Pose ref_motion = run.reference.back().inverse() * reference;
+        step_error = ref_motion.inverse() * (run.estimate.back().inverse() * t.pose);
+        ref_step = ref_motion.translation().norm();
+      }
+      std::fprintf(trace.get(), "%zu,%s,%.3f,%.4f,%.3f,%.3f,%.4f,%.4f,%.3f,%.3e,%d,%.2f", i,
+                   tracking::toString(t.status), (t.pose.translation() - reference.translation()).norm() * 1e3,
+                   tracking::rotationAngle(tracking::orthonormalized(error).linear()) * 180.0 / M_PI, ref_step * 1e3,
+                   step_error.translation().norm() * 1e3,
+                   tracking::rotationAngle(tracking::orthonormalized(step_error).linear()) * 180.0 / M_PI,
+                   t.quality.inlier_ratio, t.quality.rms_residual_m * 1e3, t.quality.hessian_rcond,
+                   t.quality.iterations, track_ms);
+      for (const Pose* pose : {&t.pose, &reference})
+        for (int r = 0; r < 3; ++r)
+          for (int c = 0; c < 4; ++c) std::fprintf(trace.get(), ",%.7f", pose->matrix()(r, c));
+      std::fputc('\n', trace.get());
+    }
     run.estimate.push_back(t.pose);
     run.reference.push_back(reference);
     ++run.frames;
   }
   return run;
+}
+
+// Local agreement of a trajectory with the depth, independent of drift: every `step`-th frame is
+// aligned, from its own pose, to a map of its `half_window` neighbours on either side fused at
+// their poses of the same trajectory. A trajectory the depth supports moves little.
+struct Consistency {
+  double translation_rms_m = 0.0;
+  double rotation_rms_deg = 0.0;
+  double residual_mean_m = 0.0;
+  std::size_t samples = 0;
+};
+
+Result<Consistency> localConsistency(const FrameSource& source, const std::vector<Pose>& poses,
+                                     const volume::VolumeParams& params, const tracking::TrackerParams& tracker_params,
+                                     std::size_t half_window, std::size_t step) {
+  Consistency out;
+  tracking::SdfTracker tracker(tracker_params);
+  double t_sq = 0.0, r_sq = 0.0, residual = 0.0;
+  for (std::size_t i = half_window; i + half_window < poses.size(); i += step) {
+    volume::LabeledVolume map(params);
+    for (std::size_t j = i - half_window; j <= i + half_window; ++j) {
+      if (j == i) continue;
+      Result<Frame> neighbour = source(j);
+      if (!neighbour) return makeError(neighbour.error());
+      auto stats = volume::integrate(map, neighbour.value().depth, cv::Mat(), neighbour.value().intrinsics, poses[j]);
+      if (!stats) return makeError(stats.error());
+    }
+    Result<Frame> frame = source(i);
+    if (!frame) return makeError(frame.error());
+    auto aligned = tracker.align(frame.value().depth, frame.value().intrinsics, tracking::VolumeField(map), poses[i]);
+    if (!aligned) return makeError(aligned.error());
+    const Pose pull = poses[i].inverse() * aligned.value().pose;
+    const double angle = tracking::rotationAngle(pull.linear()) * 180.0 / M_PI;
+    t_sq += pull.translation().squaredNorm();
+    r_sq += angle * angle;
+    residual += aligned.value().quality.rms_residual_m;
+    ++out.samples;
+  }
+  if (out.samples == 0) return makeError("too few frames for the consistency check");
+  const auto n = static_cast<double>(out.samples);
+  out.translation_rms_m = std::sqrt(t_sq / n);
+  out.rotation_rms_deg = std::sqrt(r_sq / n);
+  out.residual_mean_m = residual / n;
+  return out;
+}
+
+int reportConsistency(const FrameSource& source, const RunResult& run, const volume::VolumeParams& params,
+                      const tracking::TrackerParams& tracker_params) {
+  constexpr std::size_t kHalfWindow = 20, kStep = 5;
+  std::vector<Pose> reference;
+  for (const Pose& pose : run.reference) reference.push_back(tracking::orthonormalized(pose));
+  Table table("local consistency with the depth: frame aligned to its " + std::to_string(2 * kHalfWindow) +
+              " neighbours fused at the same trajectory (every " + std::to_string(kStep) + "th frame)");
+  for (const auto& [name, poses] : {std::pair<std::string, const std::vector<Pose>*>{"tracked poses", &run.estimate},
+                                    {"reference poses", &reference}}) {
+    auto result = localConsistency(source, *poses, params, tracker_params, kHalfWindow, kStep);
+    if (!result) {
+      std::fprintf(stderr, "consistency: %s\n", result.error().c_str());
+      return 1;
+    }
+    const Consistency& c = result.value();
+    table.add(name + ": pull RMS", formatNumber(c.translation_rms_m * 1000, 2) + " mm, " + formatNumber(c.rotation_rms_deg, 3) + " deg",
+              "residual " + formatNumber(c.residual_mean_m * 1000, 2) + " mm; " + std::to_string(c.samples) + " frames");
+  }
+  table.print();
+  return 0;
 }
 
 int report(const std::string& title, const RunResult& run, const std::string& ate_target, bool drift) {
@@ -126,6 +246,7 @@ int report(const std::string& title, const RunResult& run, const std::string& at
   }
   table.add("frames lost", std::to_string(run.lost), "target 0");
   table.addMs("tracking ms/frame", run.tracking, "target median <= 15 ms (640x480)");
+  table.addMs("tracking CPU ms/frame", run.tracking_cpu, "all threads; load average " + formatNumber(loadAverage(), 1));
   table.addMs("integration ms/frame", run.integration, "at the tracked pose");
   table.print();
   return 0;
@@ -138,6 +259,11 @@ int runTrackBench(const TrackBenchOptions& options) {
   params.integrate_color = false;
   if (Status status = params.validate(); !status) {
     std::fprintf(stderr, "volume parameters: %s\n", status.error().c_str());
+    return 2;
+  }
+  if (!(options.depth_scale > 0.0) || !std::isfinite(options.depth_scale) || !(options.focal >= 0.0) ||
+      !std::isfinite(options.focal)) {
+    std::fprintf(stderr, "--depth-scale must be finite and > 0, --focal finite and >= 0 (0 = the dataset's)\n");
     return 2;
   }
   tracking::TrackerParams tracker_params = options.tracker;
@@ -155,14 +281,36 @@ int runTrackBench(const TrackBenchOptions& options) {
 
   int exit_code = 0;
   if (!options.skip_seven_scenes) {
-    auto reader = datasets::SevenScenesReader::open(options.data);
+    datasets::SevenScenesOptions reader_options;
+    if (options.focal > 0.0) {
+      auto intrinsics = datasets::readSevenScenesIntrinsics(std::filesystem::path(options.data) / "camera-intrinsics.txt");
+      if (!intrinsics) {
+        std::fprintf(stderr, "7-Scenes: %s\n", intrinsics.error().c_str());
+        return 2;
+      }
+      reader_options.intrinsics = intrinsics.value();
+      reader_options.intrinsics->fx = reader_options.intrinsics->fy = options.focal;
+    }
+    auto reader = datasets::SevenScenesReader::open(options.data, reader_options);
     if (!reader) {
       std::fprintf(stderr, "7-Scenes: %s\n", reader.error().c_str());
       return 2;
     }
     const datasets::SevenScenesReader& r = reader.value();
-    const std::size_t frames = std::min(options.frames, r.count());
-    auto run = trackSequence([&r](std::size_t i) { return r.loadDepthOnly(i); }, frames, params, tracker_params, options.oracle_map, options.verbose);
+    const std::size_t shift = static_cast<std::size_t>(std::abs(options.pose_offset));
+    const std::size_t frames = std::min(options.frames, r.count() - std::min(shift, r.count()));
+    const int offset = options.pose_offset;
+    const FrameSource source = [&r, offset, shift](std::size_t i) -> Result<Frame> {
+      const std::size_t depth_index = offset < 0 ? i + shift : i;
+      const std::size_t pose_index = offset > 0 ? i + shift : i;
+      Result<Frame> frame = r.loadDepthOnly(depth_index);
+      if (!frame || depth_index == pose_index) return frame;
+      auto pose = datasets::readSevenScenesPose(r.posePath(pose_index));
+      if (!pose) return makeError(pose.error());
+      frame.value().camera_to_world = pose.value();
+      return frame;
+    };
+    auto run = trackSequence(source, frames, params, tracker_params, options);
     if (!run) {
       std::fprintf(stderr, "7-Scenes: %s\n", run.error().c_str());
       return 1;
@@ -170,14 +318,18 @@ int runTrackBench(const TrackBenchOptions& options) {
     exit_code |= report("tracking: 7-Scenes redkitchen frames 0-" + std::to_string(frames - 1) +
                             " vs reference poses" + (options.oracle_map ? " (map at reference poses)" : ""),
                         run.value(), "target <= 3 cm", false);
+    if (options.consistency) exit_code |= reportConsistency(source, run.value(), params, tracker_params);
   }
   if (!options.skip_synthetic) {
     synthetic::SequenceConfig config;
     config.trajectory.frame_count = options.synthetic_frames;
     const synthetic::SyntheticSequence sequence(config);
+    // One trace file: the 7-Scenes run's, or the synthetic run's when 7-Scenes is skipped.
+    TrackBenchOptions synthetic_options = options;
+    if (!options.skip_seven_scenes) synthetic_options.trace.clear();
     auto run = trackSequence([&sequence](std::size_t i) { return sequence.frame(static_cast<int>(i)); },
                              static_cast<std::size_t>(sequence.frameCount()), params, tracker_params,
-                             options.oracle_map, options.verbose);
+                             synthetic_options);
     if (!run) {
       std::fprintf(stderr, "synthetic: %s\n", run.error().c_str());
       return 1;
@@ -215,6 +367,18 @@ const bool registered = registerBench(
       command.add_option("--convergence", tp.convergence_norm, "update norm that ends a level")->capture_default_str();
       command.add_flag("--oracle-map", options->oracle_map,
                        "diagnostic: integrate at the reference poses (measures per-frame disagreement, not drift)");
+      command.add_flag("--oracle-guess", options->oracle_guess,
+                       "diagnostic: start each alignment at the reference pose (refinement)");
+      command.add_option("--depth-scale", options->depth_scale, "diagnostic: multiply the depth by this")
+          ->capture_default_str();
+      command.add_option("--focal", options->focal, "diagnostic: 7-Scenes focal length fx = fy, pixels")
+          ->capture_default_str();
+      command.add_option("--pose-offset", options->pose_offset,
+                         "diagnostic: pair depth frame i with reference pose i + offset")->capture_default_str();
+      command.add_flag("--consistency", options->consistency,
+                       "diagnostic: how far the depth pulls each frame of the tracked and the reference trajectory "
+                       "from a map of its 40 neighbours (minutes)");
+      command.add_option("--trace", options->trace, "write one CSV line per frame (7-Scenes run, else synthetic) to this file");
       command.add_flag("--verbose", options->verbose, "one line per frame (lost frames are always printed)");
       return [options] { return runTrackBench(*options); };
     });
