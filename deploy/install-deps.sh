@@ -14,6 +14,7 @@ packages=(
   libspdlog-dev libfmt-dev
   libcli11-dev libyaml-cpp-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  gnuplot-nox
   iproute2 procps openssl tcpdump iceoryx python3  # deploy profiles, PKI and tests (netns, ps, capture, shm, status JSON)
   clang libclang-rt-14-dev  # deploy/fuzz.sh: libFuzzer + sanitizers
   libfastrtps-dev fastdds-tools fastddsgen  # tests/interop: an independent DDS peer (fastddsgen pulls in a JRE)
