@@ -44,6 +44,10 @@ MapperOptions mapperOptions(const ServerConfig& config, const LabelLegend& legen
   options.volume.truncation = config.truncation;
   options.volume.max_weight = config.max_weight;
   if (config.max_label_score > 0.0f) options.volume.max_label_score = config.max_label_score;
+  auto rule = volume::parseLabelRule(config.label_rule);
+  if (!rule) throw std::runtime_error("--label-rule: " + rule.error());
+  options.volume.label_rule = rule.value();
+  options.volume.label_classes = static_cast<int>(std::clamp<std::size_t>(legend.labels.size(), 2, 65535));
   options.volume.min_depth = config.min_depth;
   options.volume.max_depth = config.max_depth;
   options.volume.integrate_color = config.integrate_color;

@@ -116,6 +116,10 @@ Status Mapper::load(const std::filesystem::path& path) {
                      " m and truncation " + std::to_string(params.truncation) +
                      " m; this server runs with " + std::to_string(mine.voxel_size) + " m / " +
                      std::to_string(mine.truncation) + " m (start it with the map's values)");
+  if (params.label_rule != mine.label_rule)
+    return makeError(path.string() + ": map fuses labels with the '" + volume::labelRuleName(params.label_rule) +
+                     "' rule; this server runs '" + volume::labelRuleName(mine.label_rule) +
+                     "' (start it with --label-rule " + volume::labelRuleName(params.label_rule) + ")");
   std::unique_lock lock(mutex_);
   volume_ = std::move(loaded.value().volume);
   cameras_.clear();  // tracking restarts from the poses the next frames carry

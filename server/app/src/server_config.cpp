@@ -19,6 +19,10 @@ void addServerOptions(CLI::App& app, ServerConfig& c) {
       ->check(CLI::PositiveNumber);
   app.add_option("--max-label-score", c.max_label_score,
                  "label score clamp W_clamp (0 = library default)")->group(map)->capture_default_str();
+  app.add_option("--label-rule", c.label_rule,
+                 "label fusion: bayes (top-3 log-probabilities), majority (top-3 counts) or evidence "
+                 "(the paper's Algorithm 1); see docs/eval")
+      ->group(map)->capture_default_str()->check(CLI::IsMember({"evidence", "majority", "bayes"}));
   app.add_option("--min-depth", c.min_depth, "ignore depth below, metres")->group(map)->capture_default_str();
   app.add_option("--max-depth", c.max_depth, "ignore depth beyond, metres")->group(map)->capture_default_str();
   app.add_option("--color", c.integrate_color, "fuse colour")->group(map)->capture_default_str();

@@ -22,6 +22,7 @@ struct ServerConfig {
   double truncation = 0.04;
   float max_weight = 64.0f;
   float max_label_score = 0.0f;  // 0 = the volume library's default W_clamp
+  std::string label_rule = "bayes";  // label fusion rule; the winner of docs/eval (paper's: evidence)
   float min_depth = 0.1f;
   float max_depth = 5.0f;
   bool integrate_color = true;
