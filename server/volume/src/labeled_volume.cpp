@@ -44,8 +44,15 @@ LabeledVolume LabeledVolume::deepCopy() const {
 
 openvdb::Coord LabeledVolume::worldToIndex(const Eigen::Vector3d& world) const {
   const Eigen::Vector3d index = world / voxelSize();
-  return {static_cast<int>(std::floor(index.x() + 0.5)), static_cast<int>(std::floor(index.y() + 0.5)),
-          static_cast<int>(std::floor(index.z() + 0.5))};
+  // A point beyond OpenVDB's int coordinates (a query 1e12 m away) clamps to their edge, where
+  // nothing is ever stored, instead of overflowing the conversion (undefined behaviour; found by
+  // fuzz/targets/service_requests.cpp). NaN, which has no voxel, goes to the same edge.
+  const auto nearest = [](double v) {
+    constexpr double kEdge = 2147483520.0;  // just inside INT_MAX, exact as a double
+    const double rounded = std::floor(v + 0.5);
+    return static_cast<int>(rounded >= -kEdge && rounded <= kEdge ? rounded : (rounded < 0.0 ? -kEdge : kEdge));
+  };
+  return {nearest(index.x()), nearest(index.y()), nearest(index.z())};
 }
 
 Eigen::Vector3d LabeledVolume::indexToWorld(const openvdb::Coord& ijk) const {
