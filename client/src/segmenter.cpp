@@ -8,6 +8,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "semfuse/core/thread_name.hpp"
 #include "semfuse/dds/qos.hpp"
 #include "semfuse/dds/reader.hpp"
 #include "semfuse/dds/sample.hpp"
@@ -141,8 +142,14 @@ Segmenter::~Segmenter() { stop(); }
 void Segmenter::start() {
   if (impl_->receiver.joinable()) return;
   impl_->stopping = false;
-  impl_->receiver = std::thread([this] { impl_->receive(); });
-  impl_->worker = std::thread([this] { impl_->work(); });
+  impl_->receiver = std::thread([this] {
+    setCurrentThreadName("sf-seg-receive");
+    impl_->receive();
+  });
+  impl_->worker = std::thread([this] {
+    setCurrentThreadName("sf-seg-work");
+    impl_->work();
+  });
 }
 
 void Segmenter::stop() {

@@ -9,6 +9,7 @@
 #include "fusion_server.hpp"
 #include "semfuse/core/cli_config.hpp"
 #include "semfuse/core/logging.hpp"
+#include "semfuse/core/thread_name.hpp"
 
 int main(int argc, char** argv) {
   semfuse::server::ServerConfig config;
@@ -37,6 +38,7 @@ int main(int argc, char** argv) {
   try {
     semfuse::server::FusionServer server(config);
     std::thread signal_thread([&] {
+      semfuse::setCurrentThreadName("sf-signals");
       int received = 0;
       sigwait(&signals, &received);
       spdlog::info("signal {}: stopping", received);

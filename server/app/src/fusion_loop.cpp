@@ -2,6 +2,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include "semfuse/core/thread_name.hpp"
+
 namespace semfuse::server {
 
 FusionLoop::FusionLoop(Mapper& mapper, FrameQueue& frames, ServerState& state, const FusionLimits& limits,
@@ -17,7 +19,10 @@ FusionLoop::~FusionLoop() { stop(); }
 
 void FusionLoop::start() {
   running_ = true;
-  thread_ = std::thread([this] { run(); });
+  thread_ = std::thread([this] {
+    setCurrentThreadName("sf-fusion");
+    run();
+  });
 }
 
 void FusionLoop::stop() {

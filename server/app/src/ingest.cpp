@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "semfuse/core/thread_name.hpp"
 #include "semfuse/dds/qos.hpp"
 #include "semfuse/dds/topics.hpp"
 #include "semfuse/wire/frame_codec.hpp"
@@ -37,7 +38,10 @@ Ingest::Ingest(const dds::Participant& participant, FrameQueue& frames, FusionLo
 Ingest::~Ingest() { stop(); }
 
 void Ingest::start() {
-  thread_ = std::thread([this] { run(); });
+  thread_ = std::thread([this] {
+    setCurrentThreadName("sf-ingest");
+    run();
+  });
 }
 
 void Ingest::stop() {

@@ -18,6 +18,7 @@
 #include <dds/dds.h>
 
 #include "semfuse/core/result.hpp"
+#include "semfuse/core/thread_name.hpp"
 #include "semfuse/dds/participant.hpp"
 #include "semfuse/dds/qos.hpp"
 #include "semfuse/dds/reader.hpp"
@@ -145,7 +146,10 @@ class RpcServer {
         handler_(std::move(handler)) {
     waitset_.attach(requests_.handle());
     waitset_.attach(stop_.handle());
-    thread_ = std::thread([this] { run(); });
+    thread_ = std::thread([this, name = threadName(service.request)] {
+      setCurrentThreadName(name);
+      run();
+    });
   }
   ~RpcServer() { stop(); }
   RpcServer(const RpcServer&) = delete;
@@ -168,6 +172,14 @@ class RpcServer {
   static constexpr std::size_t kRememberedClients = 4096;
 
  private:
+  // "rq/semfuse/raycastRequest" -> "sf-rpc-raycast": the service's name, as short as Linux needs.
+  static std::string threadName(const std::string& request_topic) {
+    std::string_view name = request_topic;
+    if (auto slash = name.rfind('/'); slash != std::string_view::npos) name.remove_prefix(slash + 1);
+    if (name.size() > 7 && name.substr(name.size() - 7) == "Request") name.remove_suffix(7);
+    return "sf-rpc-" + std::string(name);
+  }
+
   void run() {
     while (!stop_.triggered()) {
       if (!waitset_.wait(DDS_INFINITY)) return;
