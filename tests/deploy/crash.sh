@@ -55,7 +55,7 @@ for cycle in $(seq 1 "$cycles"); do
   kill -KILL "$server_pid"
   wait "$server_pid" 2>/dev/null || true
   stale=$(find "$work" -maxdepth 1 -name '.map.vdb.tmp-*' | wc -l)
-  cp "$work/logs/server.log" "$work/logs/server-$cycle.killed.log" 2>/dev/null || true
+  mv "$work/logs/server.log" "$work/logs/server-$cycle.killed.log" 2>/dev/null || true
   launch server "$server_exe" "${server_args[@]}"
   server_pid=$last_pid
   started() { grep -q "serving on domain" "$work/logs/server.log"; }

@@ -30,7 +30,10 @@ need_root() { [[ $(id -u) -eq 0 ]] || skip "needs root ($1)"; }
 declare -a started_pids=()
 launch() {  # launch NAME command...   (sets $last_pid)
   local name="$1"; shift
-  "$@" >"$work/logs/$name.log" 2>&1 &
+  # Truncate here, not in the background job: a redirection there runs after the fork, so a
+  # check right after launch could still read the previous process's log under this name.
+  : >"$work/logs/$name.log"
+  "$@" >>"$work/logs/$name.log" 2>&1 &
   last_pid=$!
   started_pids+=("$last_pid")
 }
