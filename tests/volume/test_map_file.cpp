@@ -1,5 +1,9 @@
 // Map files: save -> load reproduces the packed voxels bit for bit with all metadata; the tsdf is
-// a level set other tools can read; damaged files fail with a message and no partial map.
+// a level set other tools can read; damaged files fail with a message and no partial map, refused
+// by the integrity trailer before OpenVDB reads them; temporary files of dead writers are removed.
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -125,45 +129,193 @@ TEST_F(MapFile, UnwritableFolderFailsCleanly) {
   EXPECT_NE(s.error().find("cannot create"), std::string::npos) << s.error();
 }
 
-TEST_F(MapFile, TruncatedOrCorruptFilesFailWithAMessage) {
-  const fs::path path = folder_ / "map.vdb";
-  ASSERT_TRUE(saveMap(labeledPlane(), legend(), path).ok());
-  std::ifstream in(path, std::ios::binary);
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  ASSERT_GT(bytes.size(), 1000u);
+// CRC-64/XZ written bit by bit from its definition, independent of the table-driven one in the
+// library: the oracle for the trailer and the tool to re-seal files whose content a test edits.
+uint64_t crc64xz(const std::string& bytes) {
+  uint64_t crc = ~uint64_t{0};
+  for (unsigned char byte : bytes) {
+    crc ^= byte;
+    for (int bit = 0; bit < 8; ++bit) crc = (crc >> 1) ^ ((crc & 1u) ? 0xC96C5795D7870F42ull : 0);
+  }
+  return ~crc;
+}
 
-  auto write = [&](const std::string& name, const std::string& content) {
+uint64_t littleEndianAt(const std::string& bytes, std::size_t at) {
+  uint64_t value = 0;
+  for (int i = 7; i >= 0; --i) value = value << 8 | static_cast<unsigned char>(bytes[at + i]);
+  return value;
+}
+
+void putLittleEndianAt(std::string& bytes, std::size_t at, uint64_t value, int size = 8) {
+  for (int i = 0; i < size; ++i) bytes[at + i] = static_cast<char>((value >> (8 * i)) & 0xFFu);
+}
+
+class DamagedMapFile : public MapFile {
+ protected:
+  void SetUp() override {
+    MapFile::SetUp();
+    const fs::path path = folder_ / "map.vdb";
+    ASSERT_TRUE(saveMap(labeledPlane(), legend(), path).ok());
+    std::ifstream in(path, std::ios::binary);
+    bytes_.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    ASSERT_GT(bytes_.size(), 1000u);
+  }
+
+  fs::path write(const std::string& content, const std::string& name = "damaged.vdb") const {
     std::ofstream(folder_ / name, std::ios::binary) << content;
     return folder_ / name;
-  };
-  for (std::size_t keep : {bytes.size() / 2, bytes.size() - 10, std::size_t{100}, std::size_t{0}}) {
-    auto r = loadMap(write("truncated.vdb", bytes.substr(0, keep)));
-    ASSERT_FALSE(r.ok()) << "kept " << keep << " bytes";
-    EXPECT_NE(r.error().find("truncated.vdb"), std::string::npos) << r.error();
   }
-  // Flipped bytes in the voxel data: caught by the format or by the checksum.
-  for (std::size_t at : {bytes.size() / 3, bytes.size() / 2, bytes.size() * 3 / 4}) {
-    std::string corrupt = bytes;
-    for (std::size_t i = at; i < at + 16; ++i) corrupt[i] = static_cast<char>(~corrupt[i]);
-    auto r = loadMap(write("corrupt.vdb", corrupt));
-    EXPECT_FALSE(r.ok()) << "flipped at " << at;
+  // The error of loading `content`; empty when it loads.
+  std::string loadError(const std::string& content) const {
+    auto r = loadMap(write(content));
+    return r.ok() ? std::string() : r.error();
   }
-  auto not_vdb = loadMap(write("text.vdb", "this is not a map"));
-  ASSERT_FALSE(not_vdb.ok());
-  EXPECT_NE(not_vdb.error().find("not a readable OpenVDB file"), std::string::npos) << not_vdb.error();
+
+  std::size_t payloadSize() const { return bytes_.size() - kTrailer; }
+
+  static constexpr std::size_t kTrailer = 32;
+  std::string bytes_;
+};
+
+TEST(MapFileCrc, OracleMatchesTheStandardCheckValue) {
+  EXPECT_EQ(crc64xz("123456789"), 0x995DC9BBDF1939FAull);  // CRC-64/XZ's published check value
+}
+
+TEST_F(DamagedMapFile, TrailerSealsLengthAndCrcOfTheOpenVdbBytes) {
+  const std::size_t at = payloadSize();
+  EXPECT_EQ(bytes_.substr(at, 8), "SFMAPEND");
+  EXPECT_EQ(littleEndianAt(bytes_, at + 8) & 0xFFFFFFFFu, 1u);  // seal version
+  EXPECT_EQ(littleEndianAt(bytes_, at + 8) >> 32, 0u);          // reserved
+  EXPECT_EQ(littleEndianAt(bytes_, at + 16), at);
+  EXPECT_EQ(littleEndianAt(bytes_, at + 24), crc64xz(bytes_.substr(0, at)));
+  EXPECT_EQ(loadError(bytes_), "");
+}
+
+TEST_F(DamagedMapFile, TruncationAtAnyPointIsRefusedBeforeOpenVdbReadsIt) {
+  for (std::size_t keep : {std::size_t{0}, std::size_t{1}, std::size_t{31}, std::size_t{32}, std::size_t{100},
+                           payloadSize() / 3, payloadSize() / 2, payloadSize() - 1, payloadSize(), payloadSize() + 8,
+                           bytes_.size() - 1}) {
+    const std::string error = loadError(bytes_.substr(0, keep));
+    ASSERT_NE(error, "") << "kept " << keep << " bytes";
+    EXPECT_NE(error.find("damaged.vdb"), std::string::npos) << error;
+    EXPECT_NE(error.find("no integrity trailer at its end (the file is truncated"), std::string::npos)
+        << "kept " << keep << ": " << error;
+  }
+}
+
+TEST_F(DamagedMapFile, AFlippedByteAnywhereIsRefused) {
+  // About 600 positions spread over the whole file, plus every byte of the trailer.
+  std::vector<std::size_t> positions;
+  for (std::size_t at = 0; at < payloadSize(); at += payloadSize() / 600 + 1) positions.push_back(at);
+  positions.push_back(payloadSize() - 1);
+  for (std::size_t at = payloadSize(); at < bytes_.size(); ++at) positions.push_back(at);
+  for (std::size_t at : positions) {
+    std::string corrupt = bytes_;
+    corrupt[at] = static_cast<char>(corrupt[at] ^ 0x10);
+    const std::string error = loadError(corrupt);
+    ASSERT_NE(error, "") << "flipped byte " << at;
+    // The seal names what is wrong; OpenVDB never parsed the bytes ("not a readable OpenVDB file").
+    const char* expected = at < payloadSize()           ? "CRC-64 of the map data is"
+                           : at < payloadSize() + 8     ? "no integrity trailer"
+                           : at < payloadSize() + 12    ? "integrity trailer version"
+                           : at < payloadSize() + 16    ? "the integrity trailer is corrupt"
+                           : at < payloadSize() + 24    ? "bytes were lost or added"
+                                                        : "CRC-64 of the map data is";
+    EXPECT_NE(error.find(expected), std::string::npos) << "flipped byte " << at << ": " << error;
+  }
+}
+
+TEST_F(DamagedMapFile, AppendedBytesAreRefused) {
+  const std::string error = loadError(bytes_ + "more");
+  EXPECT_NE(error.find("no integrity trailer"), std::string::npos) << error;
+  // A second sealed copy appended keeps a valid-looking trailer at the end; its length does not match.
+  const std::string doubled = loadError(bytes_ + bytes_);
+  EXPECT_NE(doubled.find("holds " + std::to_string(2 * bytes_.size() - kTrailer) + " bytes of map data but its trailer records " +
+                         std::to_string(payloadSize())),
+            std::string::npos)
+      << doubled;
+}
+
+TEST_F(DamagedMapFile, OtherSealVersionsAreRefusedByName) {
+  std::string future = bytes_;
+  putLittleEndianAt(future, payloadSize() + 8, 2, 4);
+  EXPECT_NE(loadError(future).find("integrity trailer version 2 is not supported (this build reads 1)"),
+            std::string::npos)
+      << loadError(future);
+}
+
+TEST_F(DamagedMapFile, AResealedMapWithAnotherFormatVersionIsRefusedByTheMetadataCheck) {
+  // OpenVDB file metadata: name, type name ("int32") and value size, each length-prefixed.
+  const std::string key = "semfuse:format_version";
+  const std::size_t name_at = bytes_.find(key);
+  ASSERT_NE(name_at, std::string::npos);
+  const std::size_t value_at = name_at + key.size() + 4 + 5 + 4;
+  ASSERT_EQ(bytes_.substr(name_at + key.size() + 4, 5), "int32");
+  ASSERT_EQ(littleEndianAt(bytes_, value_at) & 0xFFFFFFFFu, static_cast<uint64_t>(kMapFormatVersion));
+  std::string edited = bytes_;
+  putLittleEndianAt(edited, value_at, 99, 4);
+  putLittleEndianAt(edited, payloadSize() + 24, crc64xz(edited.substr(0, payloadSize())));
+  const std::string error = loadError(edited);
+  EXPECT_NE(error.find("map format version 99 is not supported"), std::string::npos) << error;
+}
+
+TEST_F(DamagedMapFile, NonMapFilesAreRefused) {
+  const std::string text = loadError("this is not a map");
+  EXPECT_NE(text.find("no integrity trailer"), std::string::npos) << text;
   auto missing = loadMap(folder_ / "nothing.vdb");
   ASSERT_FALSE(missing.ok());
   EXPECT_NE(missing.error().find("cannot open"), std::string::npos) << missing.error();
 }
 
-TEST_F(MapFile, PlainVdbWithoutSemfuseMetadataIsRefused) {
+// A process id that was just in use and is gone now (the child exited and was reaped).
+pid_t deadProcessId() {
+  const pid_t child = ::fork();
+  if (child == 0) ::_exit(0);
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  return child;
+}
+
+TEST_F(MapFile, TemporaryFilesOfDeadWritersAreRemovedOnSaveAndLoad) {
+  const fs::path path = folder_ / "map.vdb";
+  auto touch = [&](const std::string& name) {
+    std::ofstream(folder_ / name) << "partial map";
+    return folder_ / name;
+  };
+  const pid_t dead = deadProcessId();
+  ASSERT_GT(dead, 0);
+  ASSERT_NE(::kill(dead, 0), 0);
+  const fs::path stale = touch(".map.vdb.tmp-" + std::to_string(dead));
+  const fs::path live = touch(".map.vdb.tmp-" + std::to_string(::getppid()));  // our parent runs
+  const fs::path other_map = touch(".other.vdb.tmp-" + std::to_string(dead));
+  const fs::path not_a_pid = touch(".map.vdb.tmp-12ab");
+
+  ASSERT_TRUE(saveMap(labeledPlane(), legend(), path).ok());
+  EXPECT_FALSE(fs::exists(stale));
+  EXPECT_TRUE(fs::exists(live));
+  EXPECT_TRUE(fs::exists(other_map));
+  EXPECT_TRUE(fs::exists(not_a_pid));
+
+  // A server killed while saving, then restarted: loading its map cleans up.
+  const fs::path killed = touch(".map.vdb.tmp-" + std::to_string(dead));
+  ASSERT_TRUE(loadMap(path).ok());
+  EXPECT_FALSE(fs::exists(killed));
+  EXPECT_TRUE(fs::exists(live));
+
+  touch(".map.vdb.tmp-" + std::to_string(dead));
+  EXPECT_EQ(removeStaleTemporaries(path), std::vector<fs::path>{killed});
+  EXPECT_EQ(removeStaleTemporaries(path), std::vector<fs::path>{});
+  EXPECT_TRUE(fs::exists(path));
+}
+
+TEST_F(MapFile, PlainVdbFilesAreRefused) {
   const fs::path path = folder_ / "plain.vdb";
   openvdb::io::File file(path.string());
   file.write({openvdb::FloatGrid::create(1.0f)});
   file.close();
   auto r = loadMap(path);
   ASSERT_FALSE(r.ok());
-  EXPECT_NE(r.error().find("not a semfuse map"), std::string::npos) << r.error();
+  EXPECT_NE(r.error().find("a plain OpenVDB file"), std::string::npos) << r.error();
 }
 
 }  // namespace

@@ -1,15 +1,19 @@
 #include "semfuse/volume/map_file.hpp"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
 
 #include <openvdb/io/Stream.h>
+#include <spdlog/spdlog.h>
 
 #include "map_layers.hpp"
+#include "map_seal.hpp"
 
 namespace semfuse::volume {
 namespace {
@@ -147,9 +151,11 @@ Status syncPath(const fs::path& path, int flags) {
   return Status::Ok();
 }
 
+std::string temporaryPrefix(const fs::path& path) { return "." + path.filename().string() + ".tmp-"; }
+
 Status writeAtomically(const fs::path& path, const openvdb::GridCPtrVec& grids, const openvdb::MetaMap& meta) {
   const fs::path folder = path.has_parent_path() ? path.parent_path() : fs::path(".");
-  const fs::path temporary = folder / ("." + path.filename().string() + ".tmp-" + std::to_string(::getpid()));
+  const fs::path temporary = folder / (temporaryPrefix(path) + std::to_string(::getpid()));
   auto fail = [&](const std::string& why) {
     std::error_code ignored;
     fs::remove(temporary, ignored);
@@ -158,11 +164,17 @@ Status writeAtomically(const fs::path& path, const openvdb::GridCPtrVec& grids, 
   {
     std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
     if (!out) return fail("cannot create " + temporary.string());
+    // OpenVDB writes through the CRC, then the trailer seals what it wrote (map_seal.hpp).
+    detail::CrcForwardingBuffer sealing(*out.rdbuf());
+    std::ostream payload(&sealing);
     try {
-      openvdb::io::Stream(out).write(grids, meta);
+      openvdb::io::Stream(payload).write(grids, meta);
     } catch (const std::exception& e) {
       return fail(std::string("OpenVDB write failed: ") + e.what());
     }
+    if (!payload) return fail("write to " + temporary.string() + " failed (disk full?)");
+    const std::string trailer = detail::sealTrailer(sealing.bytes(), sealing.crc());
+    out.write(trailer.data(), static_cast<std::streamsize>(trailer.size()));
     out.close();
     if (!out) return fail("write to " + temporary.string() + " failed (disk full?)");
   }
@@ -175,6 +187,34 @@ Status writeAtomically(const fs::path& path, const openvdb::GridCPtrVec& grids, 
   return Status::Ok();
 }
 
+// The pid a temporary file name of this map ends with, or 0 for any other name.
+pid_t temporaryWriter(const std::string& name, const std::string& prefix) {
+  if (name.size() <= prefix.size() || name.compare(0, prefix.size(), prefix) != 0 || name.size() - prefix.size() > 9)
+    return 0;
+  pid_t pid = 0;
+  for (std::size_t i = prefix.size(); i < name.size(); ++i) {
+    if (name[i] < '0' || name[i] > '9') return 0;
+    pid = pid * 10 + (name[i] - '0');
+  }
+  return pid;
+}
+
+// kill(pid, 0) delivers nothing; EPERM means the process exists but belongs to someone else.
+bool processIsAlive(pid_t pid) { return ::kill(pid, 0) == 0 || errno == EPERM; }
+
+// The whole file in memory: what is verified is exactly what OpenVDB then reads.
+Result<std::string> readWholeFile(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  if (!in) return makeError("cannot open " + path.string());
+  const std::streamoff size = in.tellg();
+  if (size < 0) return makeError("cannot read " + path.string());
+  std::string bytes(static_cast<std::size_t>(size), '\0');
+  in.seekg(0);
+  in.read(bytes.data(), size);
+  if (in.gcount() != size) return makeError("cannot read " + path.string() + " (it shrank while being read)");
+  return bytes;
+}
+
 template <typename GridT>
 typename GridT::Ptr findGrid(const openvdb::GridPtrVec& grids, const std::string& name) {
   for (const auto& grid : grids)
@@ -183,8 +223,12 @@ typename GridT::Ptr findGrid(const openvdb::GridPtrVec& grids, const std::string
 }
 
 Result<LoadedMap> readMap(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return makeError("cannot open " + path.string());
+  auto file = readWholeFile(path);
+  if (!file) return makeError(file.error());
+  auto payload = detail::verifySeal(file.value());
+  if (!payload) return makeError(payload.error());
+  detail::MemoryReadBuffer buffer(payload.value());
+  std::istream in(&buffer);
   openvdb::GridPtrVecPtr grids;
   openvdb::MetaMap::Ptr meta;
   try {
@@ -195,8 +239,8 @@ Result<LoadedMap> readMap(const fs::path& path) {
     return makeError("not a readable OpenVDB file (" + std::string(e.what()) + ")");
   }
   if (!grids || !meta) return makeError("not a readable OpenVDB file");
-  // OpenVDB tolerates a few missing bytes at the very end; a short read still shows on the stream.
-  if (in.fail()) return makeError("the file is truncated");
+  // The seal matched, so a short read means the writer itself wrote a broken stream.
+  if (in.fail()) return makeError("the map data ends early");
 
   auto version = required<int32_t>(*meta, "semfuse:format_version");
   if (!version) return makeError("not a semfuse map: " + version.error());
@@ -296,6 +340,26 @@ Result<LoadedMap> readMap(const fs::path& path) {
 
 }  // namespace
 
+std::vector<fs::path> removeStaleTemporaries(const fs::path& path) {
+  const fs::path folder = path.has_parent_path() ? path.parent_path() : fs::path(".");
+  const std::string prefix = temporaryPrefix(path);
+  std::vector<fs::path> removed;
+  std::error_code error;
+  for (fs::directory_iterator entry(folder, error), end; !error && entry != end; entry.increment(error)) {
+    const pid_t writer = temporaryWriter(entry->path().filename().string(), prefix);
+    if (writer <= 0 || writer == ::getpid() || processIsAlive(writer)) continue;
+    std::error_code remove_error;
+    if (fs::remove(entry->path(), remove_error)) {
+      spdlog::info("removed {}: a temporary map file of process {}, which is gone (killed while saving)",
+                   entry->path().string(), writer);
+      removed.push_back(entry->path());
+    } else if (remove_error) {
+      spdlog::warn("cannot remove the stale temporary map file {}: {}", entry->path().string(), remove_error.message());
+    }
+  }
+  return removed;
+}
+
 Status saveMap(const LabeledVolume& volume, const LabelLegend& legend, const fs::path& path,
                const MapExtraMetadata& extra) {
   auto legend_text = encodeLegend(legend);
@@ -306,11 +370,13 @@ Status saveMap(const LabeledVolume& volume, const LabelLegend& legend, const fs:
   if (volume.labelSidecarGrid()) grids.push_back(volume.labelSidecarGridPtr());
   const uint64_t checksum = detail::voxelChecksum(volume.geometryGrid().tree(),
                                                   volume.colorGrid() ? &volume.colorGrid()->tree() : nullptr);
+  removeStaleTemporaries(path);
   return writeAtomically(path, grids, fileMetadata(volume, legend, legend_text.value(), checksum, extra));
 }
 
 Result<LoadedMap> loadMap(const fs::path& path) {
   openvdb::initialize();
+  removeStaleTemporaries(path);
   auto map = readMap(path);
   if (!map) return makeError("loading map " + path.string() + ": " + map.error());
   return map;

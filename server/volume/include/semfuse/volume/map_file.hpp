@@ -8,12 +8,16 @@
 // all with the same topology, plus file metadata: format version, voxel size, truncation and the
 // other VolumeParams (the label rule since version 2), the label legend, frames integrated,
 // checksums of the packed voxels and the sidecar, and the caller's extra key/value strings.
-// Save is atomic (temporary file in the same folder, fsync, rename, fsync of the folder).
-// Load reads into a new volume: a corrupt or truncated file gives an error and touches nothing.
-// save -> load reproduces the packed voxels bit for bit.
+// A 32-byte trailer after OpenVDB's bytes seals the file with its length and a CRC-64 (other
+// OpenVDB readers ignore it); load checks it before OpenVDB parses anything, because OpenVDB's
+// reader trusts the sizes in a file and a corrupt one can make it allocate gigabytes or crash.
+// Save is atomic (temporary file ".<name>.tmp-<pid>" in the same folder, fsync, rename, fsync of
+// the folder). Load reads into a new volume: a corrupt or truncated file gives an error and
+// touches nothing. save -> load reproduces the packed voxels bit for bit.
 #include <filesystem>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "semfuse/core/legend.hpp"
 #include "semfuse/core/result.hpp"
@@ -37,5 +41,12 @@ Status saveMap(const LabeledVolume& volume, const LabelLegend& legend, const std
                const MapExtraMetadata& extra = {});
 
 Result<LoadedMap> loadMap(const std::filesystem::path& path);
+
+// Removes the temporary files of the map at `path` whose writing process no longer runs (a kill
+// during a save leaves one behind; the map itself stays intact) and logs each one. Temporary
+// files of live processes, of other maps and other files are kept; errors are logged, never
+// fatal. saveMap and loadMap call it, so a restarted server cleans up when it resumes. Process
+// ids are this host's: do not share a map folder between hosts.
+std::vector<std::filesystem::path> removeStaleTemporaries(const std::filesystem::path& path);
 
 }  // namespace semfuse::volume
