@@ -1,5 +1,5 @@
 // The label fusion rules of label_rules.hpp on hand-made observation sequences: first the pure
-// top-3 update, then each rule through integrate() and a map file round trip.
+// top-5 update and its sidecar packing, then each rule through integrate() and a map file round trip.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -24,7 +24,9 @@ struct VoxelState {
   LabelId label = kUnlabeled;
   float score = 0.0f;
   PackedLabelSidecar sidecar = 0;
-  LabelCandidates candidates() const { return unpackCandidates(label, score, sidecar); }
+  LabelCandidates candidates(float max_score = 16.0f) const {
+    return unpackCandidates(label, score, sidecar, runnerUpQuantaPerUnit(max_score));
+  }
 };
 
 VoxelState run(const LabelRuleConfig& config, const std::vector<Observation>& sequence) {
@@ -48,49 +50,106 @@ TEST(LabelRules, NamesParseBackAndUnknownNamesAreRefused) {
   EXPECT_NE(bad.error().find("evidence, majority or bayes"), std::string::npos);
 }
 
-TEST(LabelRules, MemoryPerVoxelIsEightBytesForEvidenceAndSixteenForTopThree) {
+TEST(LabelRules, MemoryPerVoxelIsEightBytesForEvidenceAndSixteenForTopFive) {
   EXPECT_EQ(labelRuleBytesPerVoxel(LabelRule::kEvidence), 8u);
   EXPECT_EQ(labelRuleBytesPerVoxel(LabelRule::kMajority), 16u);
   EXPECT_EQ(labelRuleBytesPerVoxel(LabelRule::kBayes), 16u);
 }
 
-TEST(LabelRules, SidecarPacksTheTwoRunnersUp) {
+TEST(LabelRules, RunnerUpStepDividesOneObservationWhileSixtyThreeStepsReachTheClamp) {
+  EXPECT_EQ(runnerUpQuantaPerUnit(16.0f), 3.0f);   // 63 steps of 1/3 = 21 >= 16
+  EXPECT_EQ(runnerUpQuantaPerUnit(4.0f), 15.0f);
+  EXPECT_EQ(runnerUpQuantaPerUnit(63.0f), 1.0f);
+  EXPECT_EQ(runnerUpQuantaPerUnit(64.0f), 0.5f);   // one step = 2 observations
+  EXPECT_EQ(runnerUpQuantaPerUnit(2048.0f), 1.0f / 33.0f);
+}
+
+TEST(LabelRules, SidecarPacksFourRunnersUpAsTenBitLabelsAndSixBitScores) {
+  const float per_unit = runnerUpQuantaPerUnit(16.0f);
   LabelCandidates c;
-  c.label[0] = 4, c.score[0] = 9.0f;
-  c.label[1] = 65535, c.score[1] = 2.5f;
-  c.label[2] = 7, c.score[2] = 0.125f;
-  const LabelCandidates back = unpackCandidates(4, 9.0f, packSidecar(c));
+  c.label[0] = 4, c.score[0] = 16.0f;
+  c.label[1] = 1023, c.score[1] = 16.0f;  // the largest label and score a slot holds
+  c.label[2] = 7, c.score[2] = 2.0f / 3.0f;
+  c.label[3] = 150, c.score[3] = 5.0f;
+  c.label[4] = 1, c.score[4] = 1.0f / 3.0f;
+  const PackedLabelSidecar packed = packSidecar(c, per_unit);
+  const LabelCandidates back = unpackCandidates(4, 16.0f, packed, per_unit);
   for (int i = 0; i < kLabelCandidates; ++i) {
-    EXPECT_EQ(back.label[i], c.label[i]);
-    EXPECT_EQ(back.score[i], c.score[i]);
+    EXPECT_EQ(back.label[i], c.label[i]) << i;
+    EXPECT_FLOAT_EQ(back.score[i], c.score[i]) << i;
   }
-  EXPECT_EQ(packSidecar(LabelCandidates{}), 0);  // nothing tracked: the grid's background
+  // Slot 1 in the lowest 16 bits: label 1023 in bits 0-9, 48 steps of 1/3 in bits 10-15.
+  EXPECT_EQ(static_cast<uint64_t>(packed) & 0xFFFFu, (48u << 10) | 1023u);
+  EXPECT_EQ(packSidecar(LabelCandidates{}, per_unit), 0);  // nothing tracked: the grid's background
+}
+
+TEST(LabelRules, SidecarScoresRoundToTheNearestStepButATrackedLabelKeepsOne) {
+  const float per_unit = runnerUpQuantaPerUnit(16.0f);
+  LabelCandidates c;
+  c.label[0] = 4, c.score[0] = 16.0f;
+  c.label[1] = 5, c.score[1] = 1.2f;   // 3.6 steps -> 4
+  c.label[2] = 6, c.score[2] = 0.05f;  // 0.15 steps: kept at one step, not dropped
+  c.label[3] = 7, c.score[3] = 40.0f;  // beyond 63 steps (never happens under the clamp): saturates
+  const LabelCandidates back = unpackCandidates(4, 16.0f, packSidecar(c, per_unit), per_unit);
+  EXPECT_FLOAT_EQ(back.score[1], 4.0f / 3.0f);
+  EXPECT_EQ(back.label[2], 6);
+  EXPECT_FLOAT_EQ(back.score[2], 1.0f / 3.0f);
+  EXPECT_FLOAT_EQ(back.score[3], 21.0f);
+  EXPECT_EQ(back.label[4], kUnlabeled);
+  EXPECT_EQ(back.score[4], 0.0f);
+}
+
+TEST(LabelRules, TopFiveRulesIgnoreLabelsBeyondTheSidecarsTenBits) {
+  for (LabelRule rule : {LabelRule::kMajority, LabelRule::kBayes}) {
+    const VoxelState v = run(ruleConfig(rule), {{5, 1.0f}, {1024, 1.0f}, {1024, 1.0f}, {65535, 1.0f}});
+    EXPECT_EQ(v.label, 5);
+    EXPECT_EQ(v.score, 1.0f);
+    EXPECT_EQ(v.sidecar, 0);
+  }
+  const VoxelState evidence =
+      run(ruleConfig(LabelRule::kEvidence), {{5, 1.0f}, {1024, 1.0f}, {1024, 1.0f}, {1024, 1.0f}});
+  EXPECT_EQ(evidence.label, 1024);  // the paper's rule keeps 16-bit labels in the packed voxel
 }
 
 TEST(LabelRules, MajorityCountsEachLabelAndIgnoresConfidence) {
-  const VoxelState v = run(ruleConfig(LabelRule::kMajority), {{5, 0.2f}, {5, 0.2f}, {7, 1.0f}, {5, 0.2f}, {7, 1.0f}, {9, 1.0f}});
+  const VoxelState v = run(ruleConfig(LabelRule::kMajority),
+                           {{5, 0.2f}, {5, 0.2f}, {7, 1.0f}, {5, 0.2f}, {7, 1.0f}, {9, 1.0f}, {11, 0.5f}, {12, 1.0f}});
   const LabelCandidates c = v.candidates();
   EXPECT_EQ(v.label, 5);
   EXPECT_EQ(v.score, 3.0f);
-  EXPECT_EQ(c.label[1], 7);
-  EXPECT_EQ(c.score[1], 2.0f);
-  EXPECT_EQ(c.label[2], 9);
-  EXPECT_EQ(c.score[2], 1.0f);
+  const LabelId labels[] = {5, 7, 9, 11, 12};
+  const float counts[] = {3, 2, 1, 1, 1};
+  for (int i = 0; i < kLabelCandidates; ++i) {
+    EXPECT_EQ(c.label[i], labels[i]) << i;
+    EXPECT_EQ(c.score[i], counts[i]) << i;
+  }
 }
 
-TEST(LabelRules, FourthLabelErodesEveryEntryThenTakesAFreedSlot) {
+TEST(LabelRules, SixthLabelErodesEveryEntryThenTakesAFreedSlot) {
   const auto config = ruleConfig(LabelRule::kMajority);
-  VoxelState v = run(config, {{1, 1}, {1, 1}, {1, 1}, {2, 1}, {2, 1}, {3, 1}, {4, 1}});
+  VoxelState v = run(config, {{1, 1}, {1, 1}, {1, 1}, {2, 1}, {2, 1}, {3, 1}, {3, 1}, {4, 1}, {4, 1}, {5, 1}, {6, 1}});
   LabelCandidates c = v.candidates();
-  EXPECT_EQ(c.label[0], 1);
-  EXPECT_EQ(c.score[0], 2.0f);  // Misra-Gries: the outsider's vote cancels one vote of each entry
-  EXPECT_EQ(c.label[1], 2);
-  EXPECT_EQ(c.score[1], 1.0f);
-  EXPECT_EQ(c.label[2], kUnlabeled);  // label 3's single count was used up
-  applyLabelRule(config, v.label, v.score, &v.sidecar, 4, 1.0f);
+  const LabelId labels[] = {1, 2, 3, 4, kUnlabeled};
+  const float counts[] = {2, 1, 1, 1, 0};  // Misra-Gries: the outsider's vote cancels one vote of each
+  for (int i = 0; i < kLabelCandidates; ++i) {
+    EXPECT_EQ(c.label[i], labels[i]) << i;
+    EXPECT_EQ(c.score[i], counts[i]) << i;  // label 5's single count was used up
+  }
+  applyLabelRule(config, v.label, v.score, &v.sidecar, 6, 1.0f);
   c = v.candidates();
-  EXPECT_EQ(c.label[2], 4);
-  EXPECT_EQ(c.score[2], 1.0f);
+  EXPECT_EQ(c.label[4], 6);
+  EXPECT_EQ(c.score[4], 1.0f);
+}
+
+// Every label with more than a sixth of the votes stays in the list: a label with 2 of every 9
+// votes, the rest spread over 7 others arriving in between, wins. The former three slots track
+// only labels above a quarter: there 2/9 is eroded away and the list ends as {7, 8}.
+TEST(LabelRules, ALabelWithAFifthOfTheVotesAgainstSevenOthersWins) {
+  std::vector<Observation> sequence;
+  for (int cycle = 0; cycle < 10; ++cycle)
+    for (LabelId id : {1, 2, 3, 4, 5, 1, 6, 7, 8}) sequence.push_back({id, 1.0f});
+  EXPECT_EQ(run(ruleConfig(LabelRule::kMajority), sequence).label, 1);
+  EXPECT_EQ(run(ruleConfig(LabelRule::kBayes), sequence).label, 1);
 }
 
 TEST(LabelRules, ClampShiftsAllScoresSoAChangedSceneIsRelearned) {
@@ -101,7 +160,7 @@ TEST(LabelRules, ClampShiftsAllScoresSoAChangedSceneIsRelearned) {
   EXPECT_EQ(v.label, 5);  // 5 saturated at 4, 7 caught up to 4: a tie keeps the incumbent
   EXPECT_EQ(v.score, 4.0f);
   applyLabelRule(config, v.label, v.score, &v.sidecar, 7, 1.0f);
-  const LabelCandidates c = v.candidates();
+  const LabelCandidates c = v.candidates(4.0f);
   EXPECT_EQ(c.label[0], 7);
   EXPECT_EQ(c.score[0], 4.0f);
   EXPECT_EQ(c.label[1], 5);
@@ -110,16 +169,16 @@ TEST(LabelRules, ClampShiftsAllScoresSoAChangedSceneIsRelearned) {
 
 TEST(LabelRules, AWeightedOutsiderEntersWithTheEvidenceLeftOver) {
   LabelCandidates c;
-  c.label[0] = 1, c.score[0] = 3.0f;
-  c.label[1] = 2, c.score[1] = 1.0f;
-  c.label[2] = 3, c.score[2] = 0.25f;
-  accumulateTopLabels(c, 4, 0.75f, 16.0f);  // 0.25 taken from each, 3 is used up, 4 enters with 0.5
-  EXPECT_EQ(c.label[0], 1);
-  EXPECT_FLOAT_EQ(c.score[0], 2.75f);
-  EXPECT_EQ(c.label[1], 2);
-  EXPECT_FLOAT_EQ(c.score[1], 0.75f);
-  EXPECT_EQ(c.label[2], 4);
-  EXPECT_FLOAT_EQ(c.score[2], 0.5f);
+  const float scores[] = {3.0f, 1.0f, 0.75f, 0.5f, 0.25f};
+  for (int i = 0; i < kLabelCandidates; ++i) c.label[i] = static_cast<LabelId>(i + 1), c.score[i] = scores[i];
+  accumulateTopLabels(c, 9, 0.75f, 16.0f);  // 0.25 taken from each, 5 is used up, 9 enters with 0.5
+  // 9 (0.5) sorts above 4 (0.25); the stable sort keeps 3 (0.5) ahead of the newcomer.
+  const LabelId labels[] = {1, 2, 3, 9, 4};
+  const float after[] = {2.75f, 0.75f, 0.5f, 0.5f, 0.25f};
+  for (int i = 0; i < kLabelCandidates; ++i) {
+    EXPECT_EQ(c.label[i], labels[i]) << i;
+    EXPECT_FLOAT_EQ(c.score[i], after[i]) << i;
+  }
 }
 
 TEST(LabelRules, BayesWeighsConfidenceThroughTheCalibratedLikelihood) {
@@ -143,7 +202,7 @@ TEST(LabelRules, BayesWeighsConfidenceThroughTheCalibratedLikelihood) {
 // The paper's noise model on 2000 voxels seen 60 times each: every observation is switched with
 // probability 0.6 to one of the 7 other labels, at full confidence. Counting the top-3 labels
 // recovers nearly every voxel; evidence weighting, which lets each wrong label subtract, does not.
-TEST(LabelRules, TopThreeRulesRemovePixelNoiseThatDefeatsEvidenceWeighting) {
+TEST(LabelRules, TopFiveRulesRemovePixelNoiseThatDefeatsEvidenceWeighting) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> coin(0.0f, 1.0f);
   std::uniform_int_distribution<int> other(0, 6);
@@ -195,7 +254,8 @@ TEST_F(LabelRuleInVolume, MajorityKeepsRunnersUpInTheSidecarAndTheWinnerInTheVox
   EXPECT_EQ(volume.voxel(wall).label, 7);
   EXPECT_EQ(volume.voxel(wall).score, 2.0f);
   const auto c = unpackCandidates(volume.voxel(wall).label, volume.voxel(wall).score,
-                                  volume.labelSidecarGrid()->tree().getValue(wall));
+                                  volume.labelSidecarGrid()->tree().getValue(wall),
+                                  runnerUpQuantaPerUnit(params.max_label_score));
   EXPECT_EQ(c.label[1], 5);
   EXPECT_EQ(c.score[1], 1.0f);
   EXPECT_EQ(volume.labelSidecarGrid()->tree().leafCount(), volume.geometryGrid().tree().leafCount());
