@@ -23,6 +23,8 @@ struct VolumeBenchOptions {
   double voxel = 0.01;
   double truncation = 0.04;
   std::size_t baseline_frames = 100;
+  std::string kernel;            // "scalar" or "avx2"; empty: the default (widest available)
+  bool compare_kernels = false;  // only the interleaved scalar-vs-avx2 comparison
 };
 
 // A deterministic stand-in for a segmentation, at full depth resolution (the costliest case):
@@ -92,6 +94,98 @@ Result<PassResult> runPass(const datasets::SevenScenesReader& reader, const volu
   return result;
 }
 
+// Bits of every leaf of `a` equal those in `b` (values and active masks), and the leaf sets match;
+// returns the number of differing voxels (+ missing leaves' voxels).
+template <typename Grid>
+std::size_t differingVoxels(const Grid* a, const Grid* b) {
+  if (!a || !b) return a == b ? 0 : 1;
+  std::size_t differing = 0;
+  for (auto leaf = a->tree().cbeginLeaf(); leaf; ++leaf) {
+    const auto* other = b->tree().probeConstLeaf(leaf->origin());
+    if (!other) {
+      differing += leaf->SIZE;
+      continue;
+    }
+    for (openvdb::Index i = 0; i < leaf->SIZE; ++i)
+      differing += leaf->getValue(i) != other->getValue(i) || leaf->isValueOn(i) != other->isValueOn(i);
+  }
+  return differing + (a->tree().leafCount() != b->tree().leafCount() ? 1 : 0);
+}
+
+// The scalar and AVX2 kernels on the same frames, interleaved frame by frame (alternating which
+// goes first) into two volumes, so that the machine's load hits both alike; then the two maps are
+// compared voxel for voxel. Labeled frames, as in the target figure, followed by the late-label
+// pass on two further volumes.
+int compareKernels(const datasets::SevenScenesReader& reader, const volume::VolumeParams& params, std::size_t frames) {
+  using volume::IntegrationKernel;
+  if (!volume::integrationKernelAvailable(IntegrationKernel::kAvx2)) {
+    std::fprintf(stderr, "semfuse-bench volume: the AVX2 kernel is not available on this CPU/build\n");
+    return 2;
+  }
+  const IntegrationKernel kernels[2] = {IntegrationKernel::kScalar, IntegrationKernel::kAvx2};
+  struct PerKernel {
+    std::optional<volume::LabeledVolume> labeled, late;
+    Timings integrate, integrate_cpu, labels_only, labels_only_cpu;
+  } runs[2];
+  for (PerKernel& r : runs) r.labeled.emplace(params), r.late.emplace(params);
+  for (std::size_t i = 0; i < frames; ++i) {
+    auto frame = reader.load(i);
+    if (!frame || !frame.value().camera_to_world) {
+      std::fprintf(stderr, "semfuse-bench volume: frame %zu unreadable or without pose\n", i);
+      return 1;
+    }
+    const Frame& f = frame.value();
+    const SyntheticSegmentation seg = labelsFromDepthBands(f.depth);
+    for (int n = 0; n < 2; ++n) {
+      const int k = (static_cast<int>(i) + n) % 2;
+      volume::setIntegrationKernel(kernels[k]);
+      PerKernel& r = runs[k];
+      Stopwatch watch;
+      CpuStopwatch cpu;
+      auto stats = volume::integrate(*r.labeled, f.depth, f.color, seg.labels, seg.confidence, f.intrinsics,
+                                     *f.camera_to_world);
+      r.integrate.add(watch.elapsedMs());
+      r.integrate_cpu.add(cpu.elapsedMs());
+      auto geometry = volume::integrate(*r.late, f.depth, f.color, f.intrinsics, *f.camera_to_world);
+      Stopwatch late;
+      CpuStopwatch late_cpu;
+      auto labels = volume::integrateLabels(*r.late, f.depth, seg.labels, seg.confidence, f.intrinsics,
+                                            *f.camera_to_world);
+      r.labels_only.add(late.elapsedMs());
+      r.labels_only_cpu.add(late_cpu.elapsedMs());
+      if (!stats || !geometry || !labels) {
+        std::fprintf(stderr, "semfuse-bench volume: frame %zu failed\n", i);
+        return 1;
+      }
+    }
+  }
+  std::size_t differing = 0;
+  for (auto member : {&PerKernel::labeled, &PerKernel::late}) {
+    const volume::LabeledVolume& a = *(runs[0].*member);
+    const volume::LabeledVolume& b = *(runs[1].*member);
+    differing += differingVoxels(&a.geometryGrid(), &b.geometryGrid()) + differingVoxels(a.colorGrid(), b.colorGrid()) +
+                 differingVoxels(a.labelSidecarGrid(), b.labelSidecarGrid());
+  }
+  Table table("integration kernels, interleaved frame by frame (median / p95 per frame)");
+  auto ratio = [](const Timings& scalar, const Timings& wide) { return formatNumber(wide.median() / scalar.median(), 2); };
+  for (int k = 0; k < 2; ++k) {
+    const std::string name = volume::integrationKernelName(kernels[k]);
+    table.addMs("integrate depth+colour+labels, " + name, runs[k].integrate,
+                "CPU " + formatNumber(runs[k].integrate_cpu.median()) + " ms (all threads)");
+    table.addMs("labels only (late segmentation), " + name, runs[k].labels_only,
+                "CPU " + formatNumber(runs[k].labels_only_cpu.median()) + " ms (all threads)");
+  }
+  table.add("avx2 / scalar, integrate+labels", "x" + ratio(runs[0].integrate, runs[1].integrate),
+            "CPU x" + ratio(runs[0].integrate_cpu, runs[1].integrate_cpu));
+  table.add("avx2 / scalar, labels only", "x" + ratio(runs[0].labels_only, runs[1].labels_only),
+            "CPU x" + ratio(runs[0].labels_only_cpu, runs[1].labels_only_cpu));
+  table.add("voxels differing (geometry, colour, sidecar)", std::to_string(differing),
+            differing == 0 ? "the two maps are bit-identical" : "MISMATCH: the kernels disagree");
+  table.print();
+  std::printf("load average at the end: %.2f\n", loadAverage());
+  return differing == 0 ? 0 : 1;
+}
+
 int runVolumeBench(const VolumeBenchOptions& options) {
   auto reader = datasets::SevenScenesReader::open(options.data);
   if (!reader) {
@@ -106,12 +200,22 @@ int runVolumeBench(const VolumeBenchOptions& options) {
     std::fprintf(stderr, "semfuse-bench volume: %s\n", valid.error().c_str());
     return 2;
   }
+  if (!options.kernel.empty()) {
+    const bool scalar = options.kernel == "scalar";
+    if ((!scalar && options.kernel != "avx2") ||
+        !volume::setIntegrationKernel(scalar ? volume::IntegrationKernel::kScalar : volume::IntegrationKernel::kAvx2)) {
+      std::fprintf(stderr, "semfuse-bench volume: kernel '%s' is not available (scalar, avx2)\n", options.kernel.c_str());
+      return 2;
+    }
+  }
   const PinholeIntrinsics& k = reader.value().intrinsics();
   std::printf("semfuse-bench volume: %zu frames of %s (%dx%d), voxel %.3f m, truncation %.3f m, %d threads, "
-              "load average %.2f at start\n",
+              "%s kernel, load average %.2f at start\n",
               frames, options.data.c_str(), k.width, k.height, params.voxel_size, params.truncation,
               static_cast<int>(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism)),
+              options.compare_kernels ? "scalar vs avx2" : volume::integrationKernelName(volume::integrationKernel()),
               loadAverage());
+  if (options.compare_kernels) return compareKernels(reader.value(), params, frames);
 
   // The labeled pass first, alone, so that peak RSS is one map (plus one frame in flight).
   auto labeled = runPass(reader.value(), params, frames, Pass::kDepthColorLabels);
@@ -178,6 +282,9 @@ const bool registered = registerBench(
       command.add_option("--trunc", options->truncation, "truncation, metres")->capture_default_str();
       command.add_option("--baseline-frames", options->baseline_frames,
                          "frames for the single-thread baseline")->capture_default_str();
+      command.add_option("--kernel", options->kernel, "integration kernel: scalar or avx2 (default: widest available)");
+      command.add_flag("--compare-kernels", options->compare_kernels,
+                       "only time the scalar and avx2 kernels interleaved and check that their maps are identical");
       return [options] { return runVolumeBench(*options); };
     });
 

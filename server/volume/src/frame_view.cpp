@@ -94,6 +94,8 @@ Result<FrameView> makeFrameView(const VolumeParams& params, const cv::Mat& depth
   if (!labels.empty()) {
     view.labels = labels.ptr<uint16_t>();
     view.label_stride = labels.step1();
+    view.label_width = labels.cols;
+    view.label_height = labels.rows;
     if (!confidence.empty()) {
       view.confidence = confidence.ptr<float>();
       view.confidence_stride = confidence.step1();

@@ -29,6 +29,7 @@ struct FrameView {
   std::size_t color_stride = 0;
   const uint16_t* labels = nullptr;  // nullptr when absent
   std::size_t label_stride = 0;
+  int label_width = 0, label_height = 0;
   const float* confidence = nullptr;  // nullptr: confidence 1 everywhere
   std::size_t confidence_stride = 0;
   // Nearest-neighbour upsampling of the label image: depth column/row -> label column/row.

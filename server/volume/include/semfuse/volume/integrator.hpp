@@ -50,4 +50,14 @@ Result<IntegrationStats> integrateLabels(LabeledVolume& volume, const cv::Mat& d
                                          const cv::Mat& confidence, const PinholeIntrinsics& intrinsics,
                                          const Pose& camera_to_world);
 
+// The per-voxel update exists twice: portable scalar code and an AVX2 + F16C version (8 voxels
+// of a leaf column per instruction) for x86-64 CPUs that have both, the default where available.
+// They give bit-identical volumes (tests/volume/test_integrate_kernels.cpp); choosing one is for
+// that test and for benchmarking. Process-wide; takes effect from the next integrate() call.
+enum class IntegrationKernel { kScalar, kAvx2 };
+IntegrationKernel integrationKernel();
+bool integrationKernelAvailable(IntegrationKernel kernel);  // kAvx2: built for x86-64 and the CPU has it
+bool setIntegrationKernel(IntegrationKernel kernel);        // false, and no change, where unavailable
+const char* integrationKernelName(IntegrationKernel kernel);  // "scalar", "avx2"
+
 }  // namespace semfuse::volume
