@@ -40,7 +40,8 @@ struct TestFrame {
 // percent of invalid pixels (0, NaN, beyond max_depth), a colour gradient with per-pixel noise,
 // labels by region at half resolution with varied confidences, some of them background (7),
 // zero or NaN. Every image is a view into a larger buffer, so rows are strided.
-std::vector<TestFrame> makeSequence(int frames, unsigned seed) {
+// labels_size: the label image's size (the depth's, a power-of-two fraction, or any other).
+std::vector<TestFrame> makeSequence(int frames, unsigned seed, cv::Size labels_size) {
   const PinholeIntrinsics k = smallCamera();
   const Eigen::Vector3d centre(0.05, 0.0, 1.1);
   const double radius = 0.2;
@@ -60,10 +61,10 @@ std::vector<TestFrame> makeSequence(int frames, unsigned seed) {
     f.depth = depth_buffer(cv::Rect(3, 2, k.width, k.height));
     cv::Mat color_buffer(k.height + 2, k.width + 5, CV_8UC3, cv::Scalar(1, 2, 3));
     f.color = color_buffer(cv::Rect(5, 1, k.width, k.height));
-    cv::Mat label_buffer(k.height / 2 + 1, k.width / 2 + 3, CV_16UC1, cv::Scalar(99));
-    f.labels = label_buffer(cv::Rect(1, 1, k.width / 2, k.height / 2));
-    cv::Mat confidence_buffer(k.height / 2 + 2, k.width / 2 + 1, CV_32FC1, cv::Scalar(-1));
-    f.confidence = confidence_buffer(cv::Rect(0, 2, k.width / 2, k.height / 2));
+    cv::Mat label_buffer(labels_size.height + 1, labels_size.width + 3, CV_16UC1, cv::Scalar(99));
+    f.labels = label_buffer(cv::Rect(cv::Point(1, 1), labels_size));
+    cv::Mat confidence_buffer(labels_size.height + 2, labels_size.width + 1, CV_32FC1, cv::Scalar(-1));
+    f.confidence = confidence_buffer(cv::Rect(cv::Point(0, 2), labels_size));
     for (int v = 0; v < k.height; ++v)
       for (int u = 0; u < k.width; ++u) {
         const float s = sphere.at<float>(v, u), w = wall.at<float>(v, u);
@@ -149,17 +150,24 @@ void expectSameRuns(const KernelRun& scalar, const KernelRun& wide) {
   }
 }
 
-class KernelsAgree : public ::testing::TestWithParam<std::tuple<Inputs, LabelRule>> {};
+struct Variant {
+  Inputs inputs;
+  LabelRule rule;
+  cv::Size labels_size;     // the depth is 160x120
+  bool background_label;    // label 7 is background (else only 0 is ignored)
+};
+
+class KernelsAgree : public ::testing::TestWithParam<Variant> {};
 
 TEST_P(KernelsAgree, VoxelForVoxel) {
   if (!integrationKernelAvailable(IntegrationKernel::kAvx2)) GTEST_SKIP() << "this CPU or build has no AVX2 kernel";
   const KernelChoice restore;
-  const auto [inputs, rule] = GetParam();
+  const auto [inputs, rule, labels_size, background_label] = GetParam();
   VolumeParams params;
   params.label_rule = rule;
-  params.background_labels = {7};
+  if (background_label) params.background_labels = {7};
   params.max_weight = 6;  // reached within the sequence: the clamp is exercised
-  const std::vector<TestFrame> frames = makeSequence(10, 42);
+  const std::vector<TestFrame> frames = makeSequence(10, 42, labels_size);
   const KernelRun scalar = integrateWith(IntegrationKernel::kScalar, params, frames, inputs);
   const KernelRun wide = integrateWith(IntegrationKernel::kAvx2, params, frames, inputs);
   // The scene must be non-trivial for the comparison to mean anything.
@@ -174,12 +182,15 @@ TEST_P(KernelsAgree, VoxelForVoxel) {
 
 INSTANTIATE_TEST_SUITE_P(
     AllVariants, KernelsAgree,
-    ::testing::Values(std::make_tuple(Inputs::kDepth, LabelRule::kEvidence),
-                      std::make_tuple(Inputs::kDepthColor, LabelRule::kEvidence),
-                      std::make_tuple(Inputs::kDepthColorLabels, LabelRule::kEvidence),
-                      std::make_tuple(Inputs::kDepthColorThenLateLabels, LabelRule::kEvidence),
-                      std::make_tuple(Inputs::kDepthColorLabels, LabelRule::kBayes),
-                      std::make_tuple(Inputs::kDepthColorThenLateLabels, LabelRule::kMajority)));
+    ::testing::Values(Variant{Inputs::kDepth, LabelRule::kEvidence, {80, 60}, true},
+                      Variant{Inputs::kDepthColor, LabelRule::kEvidence, {80, 60}, true},
+                      Variant{Inputs::kDepthColorLabels, LabelRule::kEvidence, {80, 60}, true},
+                      Variant{Inputs::kDepthColorLabels, LabelRule::kEvidence, {160, 120}, false},
+                      Variant{Inputs::kDepthColorLabels, LabelRule::kEvidence, {107, 90}, true},
+                      Variant{Inputs::kDepthColorThenLateLabels, LabelRule::kEvidence, {80, 60}, true},
+                      Variant{Inputs::kDepthColorThenLateLabels, LabelRule::kEvidence, {160, 120}, false},
+                      Variant{Inputs::kDepthColorLabels, LabelRule::kBayes, {80, 60}, true},
+                      Variant{Inputs::kDepthColorThenLateLabels, LabelRule::kMajority, {107, 90}, false}));
 
 TEST(IntegrationKernel, ScalarIsAlwaysAvailableAndSelectable) {
   const KernelChoice restore;

@@ -36,6 +36,14 @@ Status checkPose(const Pose& pose) {
   return Status::Ok();
 }
 
+// log2(image / labels) when image = labels * 2^k for k in 0..8, else -1: then
+// floor(i * labels / image) = i >> k for every index i.
+int powerOfTwoRatio(int image, int labels) {
+  for (int shift = 0; shift <= 8; ++shift)
+    if (int64_t{labels} << shift == image) return shift;
+  return -1;
+}
+
 }  // namespace
 
 Result<FrameView> makeFrameView(const VolumeParams& params, const cv::Mat& depth, const cv::Mat& color,
@@ -104,6 +112,8 @@ Result<FrameView> makeFrameView(const VolumeParams& params, const cv::Mat& depth
     view.label_row.resize(static_cast<std::size_t>(depth.rows));
     for (int u = 0; u < depth.cols; ++u) view.label_col[u] = static_cast<int>(int64_t{u} * labels.cols / depth.cols);
     for (int v = 0; v < depth.rows; ++v) view.label_row[v] = static_cast<int>(int64_t{v} * labels.rows / depth.rows);
+    view.label_col_shift = powerOfTwoRatio(depth.cols, labels.cols);
+    view.label_row_shift = powerOfTwoRatio(depth.rows, labels.rows);
   }
   return view;
 }

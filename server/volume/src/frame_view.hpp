@@ -34,6 +34,9 @@ struct FrameView {
   std::size_t confidence_stride = 0;
   // Nearest-neighbour upsampling of the label image: depth column/row -> label column/row.
   std::vector<int> label_col, label_row;
+  // When the depth is 2^shift times the labels' size along an axis (equal size: 0), the mapping
+  // above is a shift, which vector code computes instead of looking it up; -1 otherwise.
+  int label_col_shift = -1, label_row_shift = -1;
 
   bool validDepth(float d) const { return d >= min_depth && d <= max_depth; }  // false for NaN
 };

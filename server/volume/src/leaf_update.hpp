@@ -42,10 +42,15 @@ class IgnoredLabels {
   }
   bool operator[](LabelId id) const { return (words_[id >> 5] >> (id & 31u)) & 1u; }
   const uint32_t* words() const { return words_.data(); }
+  bool onlyUnlabeled() const { return only_unlabeled_; }  // no background labels: label == 0 is the test
 
  private:
-  void set(LabelId id) { words_[id >> 5] |= 1u << (id & 31u); }
+  void set(LabelId id) {
+    words_[id >> 5] |= 1u << (id & 31u);
+    only_unlabeled_ = only_unlabeled_ && id == kUnlabeled;
+  }
   std::array<uint32_t, 65536 / 32> words_{};
+  bool only_unlabeled_ = true;
 };
 
 inline std::unique_ptr<IgnoredLabels> ignoredLabels(const VolumeParams& params) {

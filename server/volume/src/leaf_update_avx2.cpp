@@ -87,8 +87,13 @@ SEMFUSE_AVX2 inline unsigned fuseEvidence(__m256i& high, unsigned lanes, __m256i
                                          const KernelConfig& config) {
   const __m256i zero = _mm256_setzero_si256();
   const __m256i mask = laneMask(lanes);
-  const __m256i lu = _mm256_mask_i32gather_epi32(zero, frame.label_col.data(), ui, mask, 4);
-  const __m256i lv = _mm256_mask_i32gather_epi32(zero, frame.label_row.data(), vi, mask, 4);
+  // Label pixel of each depth pixel: a shift where the sizes allow (no dependent gather), else the table.
+  const __m256i lu = frame.label_col_shift >= 0
+                         ? _mm256_srl_epi32(ui, _mm_cvtsi32_si128(frame.label_col_shift))
+                         : _mm256_mask_i32gather_epi32(zero, frame.label_col.data(), ui, mask, 4);
+  const __m256i lv = frame.label_row_shift >= 0
+                         ? _mm256_srl_epi32(vi, _mm_cvtsi32_si128(frame.label_row_shift))
+                         : _mm256_mask_i32gather_epi32(zero, frame.label_row.data(), vi, mask, 4);
   // A label is 16 bits, read as the low half of a 32-bit load; in the last label column that load
   // would pass the row's end, so it starts one label earlier and shifts the other one off.
   const __m256i in_last_column = _mm256_cmpeq_epi32(lu, _mm256_set1_epi32(frame.label_width - 1));
@@ -104,15 +109,20 @@ SEMFUSE_AVX2 inline unsigned fuseEvidence(__m256i& high, unsigned lanes, __m256i
                                      _mm256_add_epi32(_mm256_mullo_epi32(lv, _mm256_set1_epi32(static_cast<int>(frame.confidence_stride))), lu),
                                      _mm256_castsi256_ps(mask), 4)
           : _mm256_set1_ps(1.0f);
-  const __m256i ignored_word = _mm256_mask_i32gather_epi32(zero, reinterpret_cast<const int*>(config.ignored->words()),
-                                                           _mm256_srli_epi32(observed, 5), mask, 4);
-  const __m256i ignored_bit = _mm256_and_si256(_mm256_srlv_epi32(ignored_word, _mm256_and_si256(observed, _mm256_set1_epi32(31))),
-                                               _mm256_set1_epi32(1));
+  __m256i ignored;
+  if (config.ignored->onlyUnlabeled()) {
+    ignored = _mm256_cmpeq_epi32(observed, zero);
+  } else {
+    const __m256i word = _mm256_mask_i32gather_epi32(zero, reinterpret_cast<const int*>(config.ignored->words()),
+                                                     _mm256_srli_epi32(observed, 5), mask, 4);
+    const __m256i bit = _mm256_and_si256(_mm256_srlv_epi32(word, _mm256_and_si256(observed, _mm256_set1_epi32(31))),
+                                         _mm256_set1_epi32(1));
+    ignored = _mm256_cmpeq_epi32(bit, _mm256_set1_epi32(1));
+  }
   // 0 < w < inf is false for NaN, as the scalar w > 0 && isfinite(w).
   const __m256 usable = _mm256_and_ps(_mm256_cmp_ps(w, _mm256_setzero_ps(), _CMP_GT_OQ),
                                       _mm256_cmp_ps(w, _mm256_set1_ps(std::numeric_limits<float>::infinity()), _CMP_LT_OQ));
-  const __m256i fuse = _mm256_andnot_si256(_mm256_cmpeq_epi32(ignored_bit, _mm256_set1_epi32(1)),
-                                           _mm256_and_si256(mask, _mm256_castps_si256(usable)));
+  const __m256i fuse = _mm256_andnot_si256(ignored, _mm256_and_si256(mask, _mm256_castps_si256(usable)));
   const auto fused_lanes = static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(fuse)));
   if (fused_lanes == 0) return 0;
 
