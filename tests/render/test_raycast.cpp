@@ -135,6 +135,32 @@ TEST_F(RaycastTest, SkippingFromInsideTheMapFindsTheSameSurface) {
   expectSameSurface(a.depth, b.depth);
 }
 
+// The synthetic room (walls, furniture, thin chair legs, objects in front of others) from a view
+// between the fused ones: rays started at the per-pixel surface bounds must find what the plain
+// march finds, with the same labels.
+TEST(RaycastRoom, SkippingFindsTheSameSurfaceAndLabelsAsThePlainMarch) {
+  const LabeledScene room = synthetic::makeRoom();
+  volume::LabeledVolume fused{params()};
+  testing::fuse(fused, room, testing::arcAround({0.0, 0.0, 0.7}, 1.8, 0.6, 8, 2.5));
+  const PinholeIntrinsics camera = testing::kSmallCamera.scaled(0.5);  // the plain march is slow
+  const Pose view = synthetic::lookAt({-1.2, 0.8, 1.4}, {0.4, -0.3, 0.5});
+  RaycastOptions skip{kDepthLayer | kLabelLayer};
+  RaycastOptions march = skip;
+  march.skip_empty_space = false;
+  const auto a = raycast(fused, camera, view, skip).value();
+  const auto b = raycast(fused, camera, view, march).value();
+  expectSameSurface(a.depth, b.depth);
+  int same_depth = 0, same_label = 0;
+  for (int v = 0; v < a.depth.rows; ++v)
+    for (int u = 0; u < a.depth.cols; ++u) {
+      const float da = a.depth.at<float>(v, u), db = b.depth.at<float>(v, u);
+      if (da <= 0 || std::abs(da - db) >= 0.1 * kVoxel) continue;
+      ++same_depth;
+      same_label += a.labels.at<uint16_t>(v, u) == b.labels.at<uint16_t>(v, u) ? 1 : 0;
+    }
+  EXPECT_GT(same_label, 0.995 * same_depth);
+}
+
 TEST_F(RaycastTest, AnyResolutionOnlyRequestedLayers) {
   const auto small = raycast(volume_, testing::kSmallCamera.scaled(0.25), novel_, {kDepthLayer}).value();
   EXPECT_EQ(small.depth.cols, 80);

@@ -120,12 +120,12 @@ RayMarcher::RayMarcher(const volume::LabeledVolume& volume, bool skip_empty_spac
       inv_voxel_size_(1.0 / volume.voxelSize()),
       skip_empty_space_(skip_empty_space) {}
 
-bool RayMarcher::gatherCorners(const Leaf* leaf, const openvdb::Coord& base, PackedVoxel corners[8]) {
+bool RayMarcher::gatherCorners(const LeafView& view, const openvdb::Coord& base, PackedVoxel corners[8]) {
   // Most cells lie inside one leaf: read its buffer directly. Others cross into neighbouring
   // leaves, which the accessor's cache usually still holds.
-  if (leaf && (base.x() & kLeafMask) != kLeafMask && (base.y() & kLeafMask) != kLeafMask &&
+  if (view.values && (base.x() & kLeafMask) != kLeafMask && (base.y() & kLeafMask) != kLeafMask &&
       (base.z() & kLeafMask) != kLeafMask) {
-    const PackedVoxel* values = leaf->buffer().data() + LeafNode::coordToOffset(base);
+    const PackedVoxel* values = view.values + LeafNode::coordToOffset(base);
     for (int i = 0; i < 8; ++i) {
       corners[i] = values[kCornerOffsets[i]];
       if (!volume::isObserved(corners[i])) return false;
@@ -139,10 +139,10 @@ bool RayMarcher::gatherCorners(const Leaf* leaf, const openvdb::Coord& base, Pac
   return true;
 }
 
-bool RayMarcher::sampleAt(const Leaf* leaf, const openvdb::Coord& base, const Eigen::Vector3d& index,
+bool RayMarcher::sampleAt(const LeafView& view, const openvdb::Coord& base, const Eigen::Vector3d& index,
                           float& tsdf_voxels) {
   PackedVoxel corners[8];
-  if (!gatherCorners(leaf, base, corners)) return false;
+  if (!gatherCorners(view, base, corners)) return false;
   float v[8];
   for (int i = 0; i < 8; ++i) v[i] = volume::unpackTsdf(corners[i]);
   const auto fx = static_cast<float>(index.x() - base.x()), fy = static_cast<float>(index.y() - base.y()),
@@ -156,7 +156,9 @@ bool RayMarcher::sampleAt(const Leaf* leaf, const openvdb::Coord& base, const Ei
 
 bool RayMarcher::sample(const Eigen::Vector3d& index, float& tsdf_voxels) {
   const openvdb::Coord base = floorCoord(index);
-  return sampleAt(accessor_.probeConstLeaf(base), base, index, tsdf_voxels);
+  LeafView view;
+  enterLeaf(base, view);
+  return sampleAt(view, base, index, tsdf_voxels);
 }
 
 bool RayMarcher::findSurface(const MarchRay& ray, double& t_surface) {
@@ -174,10 +176,12 @@ bool RayMarcher::findSurface(const MarchRay& ray, double& t_surface) {
   double t_prev = 0.0;
   float f_prev = 0.0f;
   double t = ray.t_min;
+  LeafView view;
   while (t < ray.t_max) {
     const Eigen::Vector3d x = o + t * d;
     const openvdb::Coord base = floorCoord(x);
-    const Leaf* leaf = accessor_.probeConstLeaf(base);
+    enterLeaf(base, view);
+    const Leaf* leaf = view.leaf;
     if (skip_empty_space_) {
       int skip;
       if (leaf) {
@@ -194,7 +198,7 @@ bool RayMarcher::findSurface(const MarchRay& ray, double& t_surface) {
       }
     }
     float f;
-    if (!sampleAt(leaf, base, x, f)) {
+    if (!sampleAt(view, base, x, f)) {
       // Every point of this cell reads the same 8 corners, so none of them gives a valid sample:
       // with skipping on, leave the cell instead of stepping half a voxel.
       have_positive = false;

@@ -8,6 +8,8 @@
 //   - a leaf, but the 8^3, 4^3, 2^3 or 1 voxel block around the sample was never observed
 //     (inactive in the leaf's value mask): jump to that block's exit;
 //   - observed and in front of the surface: sphere-trace by the TSDF value.
+#include <limits>
+
 #include <Eigen/Core>
 
 #include "semfuse/volume/labeled_volume.hpp"
@@ -42,10 +44,26 @@ class RayMarcher {
   using Accessor = volume::GeometryGrid::ConstAccessor;
   using Leaf = volume::GeometryGrid::TreeType::LeafNodeType;
 
-  // Reads the 8 packed corners of the cell at `base` (corner = dx + 2 dy + 4 dz) from `leaf`,
-  // the leaf holding `base` (or null); false as soon as one is unobserved.
-  bool gatherCorners(const Leaf* leaf, const openvdb::Coord& base, volume::PackedVoxel corners[8]);
-  bool sampleAt(const Leaf* leaf, const openvdb::Coord& base, const Eigen::Vector3d& index, float& tsdf_voxels);
+  // The leaf a ray is in, with its value buffer: consecutive samples mostly stay in one leaf, so
+  // the tree lookup and the buffer's load check run once per leaf, not once per sample.
+  struct LeafView {
+    const Leaf* leaf = nullptr;  // null where no leaf is allocated
+    const volume::PackedVoxel* values = nullptr;
+    openvdb::Coord origin{std::numeric_limits<openvdb::Int32>::max()};  // matches no real leaf
+  };
+  // Points `view` at the leaf (or missing leaf) that holds voxel `ijk`.
+  void enterLeaf(const openvdb::Coord& ijk, LeafView& view) {
+    const openvdb::Coord origin = ijk & ~(Leaf::DIM - 1);
+    if (origin == view.origin) return;
+    view.origin = origin;
+    view.leaf = accessor_.probeConstLeaf(ijk);
+    view.values = view.leaf ? view.leaf->buffer().data() : nullptr;
+  }
+
+  // Reads the 8 packed corners of the cell at `base` (corner = dx + 2 dy + 4 dz), `view` being
+  // the leaf that holds `base`; false as soon as one is unobserved.
+  bool gatherCorners(const LeafView& view, const openvdb::Coord& base, volume::PackedVoxel corners[8]);
+  bool sampleAt(const LeafView& view, const openvdb::Coord& base, const Eigen::Vector3d& index, float& tsdf_voxels);
 
   Accessor accessor_;
   double inv_voxel_size_;

@@ -4,15 +4,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
-#include <optional>
 #include <string>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include "ray_marcher.hpp"
-#include "tile_depth_bounds.hpp"
+#include "surface_depth_bounds.hpp"
 #include "semfuse/volume/volume_sampler.hpp"
 
 namespace semfuse::render {
@@ -73,14 +73,22 @@ bool clipToBox(const WorldBox& box, MarchRay& ray) {
   return ray.t_min < ray.t_max;
 }
 
+// The images, uninitialised: the threads that march the rows clear them (clearRow), so the
+// pages are first touched in parallel and are in cache when the hits are written.
 RaycastImages allocateImages(const PinholeIntrinsics& k, RenderLayers layers) {
   RaycastImages images;
-  if (layers & kDepthLayer) images.depth = cv::Mat::zeros(k.height, k.width, CV_32FC1);
-  if (layers & kNormalLayer) images.normals = cv::Mat::zeros(k.height, k.width, CV_32FC3);
-  if (layers & kLabelLayer) images.labels = cv::Mat::zeros(k.height, k.width, CV_16UC1);
-  if (layers & kScoreLayer) images.scores = cv::Mat::zeros(k.height, k.width, CV_32FC1);
-  if (layers & kColorLayer) images.color = cv::Mat::zeros(k.height, k.width, CV_8UC3);
+  if (layers & kDepthLayer) images.depth.create(k.height, k.width, CV_32FC1);
+  if (layers & kNormalLayer) images.normals.create(k.height, k.width, CV_32FC3);
+  if (layers & kLabelLayer) images.labels.create(k.height, k.width, CV_16UC1);
+  if (layers & kScoreLayer) images.scores.create(k.height, k.width, CV_32FC1);
+  if (layers & kColorLayer) images.color.create(k.height, k.width, CV_8UC3);
   return images;
+}
+
+// Zero (no surface) in row v of every requested image.
+void clearRow(RaycastImages& images, int v) {
+  for (cv::Mat* image : {&images.depth, &images.normals, &images.labels, &images.scores, &images.color})
+    if (!image->empty()) std::memset(image->ptr(v), 0, image->cols * image->elemSize());
 }
 
 // Writes the requested layers of one pixel whose ray meets the surface at t.
@@ -117,34 +125,51 @@ Result<RaycastImages> raycast(const volume::LabeledVolume& volume, const Pinhole
   if (Status valid = validate(volume, k, camera_to_world, options); !valid) return makeError(valid.error());
   RaycastImages images = allocateImages(k, options.layers);
   const WorldBox bounds = allocatedBounds(volume);
-  if (bounds.empty) return images;
+  if (bounds.empty) {
+    for (int v = 0; v < k.height; ++v) clearRow(images, v);
+    return images;
+  }
 
   const Eigen::Matrix3d rotation = camera_to_world.linear();
   const Eigen::Vector3d origin = camera_to_world.translation();
-  // With skipping, each ray marches only between the nearest and farthest observed leaf that
-  // covers its tile; the baseline clips to the allocated box and marches the rest.
-  std::optional<detail::TileDepthBounds> tiles;
-  if (options.skip_empty_space)
-    tiles.emplace(volume, k, camera_to_world, options.min_depth, options.max_depth);
-  // Rows in small chunks: rays through empty space cost far less than rays through the band, so
-  // fine-grained tasks balance the two cores.
-  tbb::parallel_for(tbb::blocked_range<int>(0, k.height, 4), [&](const tbb::blocked_range<int>& rows) {
-    RayMarcher marcher(volume, options.skip_empty_space);
-    volume::VolumeSampler sampler(volume);
-    for (int v = rows.begin(); v < rows.end(); ++v) {
-      for (int u = 0; u < k.width; ++u) {
-        MarchRay ray{origin, rotation * Eigen::Vector3d((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0),
-                     options.min_depth, options.max_depth};
-        if (tiles) {
-          double near, far;
-          if (!tiles->depthRange(u, v, near, far)) continue;
-          ray.t_min = std::max(ray.t_min, near);
-          ray.t_max = std::min(ray.t_max, far);
-        }
-        double t;
-        if (clipToBox(bounds, ray) && marcher.findSurface(ray, t))
-          shadePixel(sampler, ray, t, options.layers, images, u, v);
+  auto marchRow = [&](int v, RayMarcher& marcher, volume::VolumeSampler& sampler, const detail::BandBounds* band) {
+    clearRow(images, v);
+    for (int u = 0; u < k.width; ++u) {
+      MarchRay ray{origin, rotation * Eigen::Vector3d((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0), options.min_depth,
+                   options.max_depth};
+      if (band) {
+        double near, far;
+        if (!band->depthRange(u, v, near, far)) continue;
+        ray.t_min = std::max(ray.t_min, near);
+        ray.t_max = std::min(ray.t_max, far);
       }
+      double t;
+      if (clipToBox(bounds, ray) && marcher.findSurface(ray, t))
+        shadePixel(sampler, ray, t, options.layers, images, u, v);
+    }
+  };
+  if (!options.skip_empty_space) {
+    // The baseline clips each ray to the allocated box and marches all of it.
+    tbb::parallel_for(tbb::blocked_range<int>(0, k.height, 4), [&](const tbb::blocked_range<int>& rows) {
+      RayMarcher marcher(volume, false);
+      volume::VolumeSampler sampler(volume);
+      for (int v = rows.begin(); v < rows.end(); ++v) marchRow(v, marcher, sampler, nullptr);
+    });
+    return images;
+  }
+  // Each ray marches only between the nearest and farthest block with a surface voxel over its
+  // pixel. Bands of rows in small tasks: rays through empty space cost far less than rays through
+  // the band, so fine-grained tasks balance the two cores.
+  const detail::SurfaceDepthBounds surface_bounds(volume, k, camera_to_world, options.min_depth, options.max_depth);
+  tbb::parallel_for(tbb::blocked_range<int>(0, surface_bounds.bandCount(), 1), [&](const tbb::blocked_range<int>& bands) {
+    RayMarcher marcher(volume, true);
+    volume::VolumeSampler sampler(volume);
+    detail::BandBounds band_bounds;
+    for (int band = bands.begin(); band < bands.end(); ++band) {
+      surface_bounds.rasterizeBand(band, band_bounds);
+      const int v_end = std::min(k.height, (band + 1) * detail::SurfaceDepthBounds::kBandRows);
+      for (int v = band * detail::SurfaceDepthBounds::kBandRows; v < v_end; ++v)
+        marchRow(v, marcher, sampler, &band_bounds);
     }
   });
   return images;
