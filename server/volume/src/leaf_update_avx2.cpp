@@ -1,7 +1,7 @@
 // The AVX2 + F16C leaf update: one z-column of 8 voxels per 256-bit register. Projection, depth
-// gather, band tests, the TSDF/weight running average, half conversions (vcvtph2ps/vcvtps2ph)
-// and the colour blend run 8 voxels at a time; Algorithm 1 (a few branches per voxel, and only in
-// the band) stays scalar on the lanes that need it.
+// gather, band tests, the TSDF/weight running average, half conversions (vcvtph2ps/vcvtps2ph),
+// the colour blend and the evidence rule (Algorithm 1, as masks and blends) run 8 voxels at a
+// time; the top-3 label rules, with their sidecar, stay per voxel on the lanes that need them.
 //
 // Only these functions carry target("avx2,f16c"): the rest of the library, and every inline
 // library function this file instantiates out of line, stays baseline x86-64, so nothing compiled
