@@ -5,7 +5,9 @@
 #  2. kill -9 of the server at random moments, CYCLES times (default 20), restarted each time
 #     with the same --map: it always starts (the file is never corrupt), resumes from the last
 #     autosave (never fewer frames than the previous resume), and the camera, segmenter and
-#     status watcher started once at the beginning reconnect by themselves.
+#     status watcher started once at the beginning reconnect by themselves. A kill during an
+#     autosave leaves that save's temporary file (.map.vdb.tmp-<pid>); the restarted server
+#     removes it when it resumes, so no temporary file of a dead server outlives one cycle.
 #   crash.sh <source dir> <build dir> <work dir> [CYCLES]
 set -euo pipefail
 test_name=crash
@@ -47,14 +49,22 @@ wait_for 20 segmented $((segs_then + 3)) || fail "a new segmenter's results were
 say "server unaffected; a new segmenter is integrated"
 
 # --- 2. server killed CYCLES times --------------------------------------------------------------
+temporaries() { find "$work" -maxdepth 1 -name '.map.vdb.tmp-*' -printf '%f\n'; }
 previous_resume=0
+left_behind=0
 for cycle in $(seq 1 "$cycles"); do
   # A random moment: 0.2 to 1.7 s into this server's life, once it integrates the camera again.
   delay=$(awk -v r="$RANDOM" 'BEGIN { printf "%.2f", 0.2 + 1.5 * r / 32767 }')
   sleep "$delay"
   kill -KILL "$server_pid"
   wait "$server_pid" 2>/dev/null || true
-  stale=$(find "$work" -maxdepth 1 -name '.map.vdb.tmp-*' | wc -l)
+  # At most the file of the save this kill interrupted; older ones were removed on resume.
+  for name in $(temporaries); do
+    [[ "$name" == ".map.vdb.tmp-$server_pid" ]] || fail "cycle $cycle: $name is older than this cycle's server ($server_pid)"
+  done
+  killed_pid=$server_pid
+  killed_mid_save=0
+  [[ -f "$work/.map.vdb.tmp-$killed_pid" ]] && killed_mid_save=1 && left_behind=$((left_behind + 1))
   mv "$work/logs/server.log" "$work/logs/server-$cycle.killed.log" 2>/dev/null || true
   launch server "$server_exe" "${server_args[@]}"
   server_pid=$last_pid
@@ -67,10 +77,17 @@ for cycle in $(seq 1 "$cycles"); do
   fi
   (( resumed >= previous_resume )) || fail "cycle $cycle: resumed $resumed frames, fewer than the $previous_resume before"
   previous_resume=$resumed
+  if [[ $killed_mid_save -eq 1 && -f "$map" ]]; then
+    [[ ! -f "$work/.map.vdb.tmp-$killed_pid" ]] || fail "cycle $cycle: the killed server's temporary file survived the resume"
+    grep -q "removed $work/.map.vdb.tmp-$killed_pid" "$work/logs/server.log" ||
+      fail "cycle $cycle: the removal of the killed server's temporary file was not logged"
+  fi
   # The long-running camera reconnects by itself: its frames reach the new server.
   new_frames() { status_to "$work/s.json" && (( $(integrated "$work/s.json") >= 3 )); }
   wait_for 20 new_frames || fail "cycle $cycle: the camera did not reconnect to the restarted server"
-  say "cycle $cycle: killed after ${delay}s, restarted, resumed $resumed frames; camera reconnected (stale temp files: $stale)"
+  note=""
+  [[ $killed_mid_save -eq 0 ]] || note="; killed mid-save, its temporary file removed on resume"
+  say "cycle $cycle: killed after ${delay}s, restarted, resumed $resumed frames; camera reconnected$note"
 done
 
 # --- clients alive and reconnected -----------------------------------------------------------------
@@ -80,4 +97,4 @@ wait_for 20 segmented 2 || fail "the segmenter did not reconnect to the last ser
 # The watcher printed status of the last server (its uptime restarts with each server).
 watched_last() { grep '^{' "$work/logs/watcher.log" | tail -n 1 | python3 -c 'import json,sys; d=json.loads(sys.stdin.read()); sys.exit(0 if d["uptime_s"] < 30 and d["frames_received"] > 0 else 1)' 2>/dev/null; }
 wait_for 10 watched_last || fail "the status watcher does not follow the restarted server"
-say "passed: $cycles server kills survived, map resumed each time (last: $previous_resume frames), clients reconnected without restart"
+say "passed: $cycles server kills survived, map resumed each time (last: $previous_resume frames), clients reconnected without restart; $left_behind kills interrupted a save, every temporary file was removed on resume"
