@@ -117,7 +117,13 @@ Result<EvalSequence> loadSynthetic(const SyntheticOptions& options, const fs::pa
   EvalSequence out;
   out.name = options.name;
   out.intrinsics = config.intrinsics;
-  const fs::path folder = cache / options.name;
+  // Every option that changes a rendered frame names the cache folder: the trajectory is periodic
+  // over `frames`, so frame i of a 150-frame run is not frame i of a 600-frame one.
+  char key[160];
+  std::snprintf(key, sizeof key, "%s-%df-%dx%d-phase%.3f-r%.3f-h%.3f-seed%llu", options.name.c_str(), options.frames,
+                config.intrinsics.width, config.intrinsics.height, options.phase_rad, options.radius, options.height,
+                static_cast<unsigned long long>(options.seed));
+  const fs::path folder = cache / key;
   std::error_code error;
   fs::create_directories(folder, error);
   if (error) return makeError("cannot create " + folder.string() + ": " + error.message());
@@ -161,12 +167,16 @@ Result<volume::LabeledVolume> integrateGeometry(const EvalSequence& sequence, co
 
 Result<EvalSequence> loadSevenScenes(const SevenScenesOptions& options, const fs::path& cache,
                                      const std::function<void(const std::string&, std::size_t, std::size_t)>& on_progress) {
-  if (options.stride < 1) return makeError("stride must be at least 1");
+  if (options.stride < 1 || options.network_stride < 1 || options.network_stride % options.stride != 0)
+    return makeError("strides must be at least 1 and the network stride a multiple of the frame stride");
   auto reader = datasets::SevenScenesReader::open(options.folder);
   if (!reader) return makeError(reader.error());
   const std::size_t count = std::min<std::size_t>(reader.value().count(), static_cast<std::size_t>(options.frames));
-  std::vector<std::size_t> indices;
+  std::vector<std::size_t> indices, network_indices;
   for (std::size_t i = 0; i < count; i += static_cast<std::size_t>(options.stride)) indices.push_back(i);
+  for (std::size_t i = 0; i < count; i += static_cast<std::size_t>(options.network_stride)) network_indices.push_back(i);
+  // Position of dataset frame i in `frames` (i is a multiple of the stride).
+  auto position = [&](std::size_t i) { return i / static_cast<std::size_t>(options.stride); };
 
   EvalSequence out;
   out.name = "7scenes";
@@ -182,13 +192,15 @@ Result<EvalSequence> loadSevenScenes(const SevenScenesOptions& options, const fs
   fs::create_directories(folder, error);
   if (error) return makeError("cannot create " + folder.string() + ": " + error.message());
 
-  auto reference_labels = segmentFrames(reader.value(), indices, options.models / "ade20k_deeplabv3_mnv2_513_logits.pb",
-                                        513, folder, on_progress);
+  auto reference_labels = segmentFrames(reader.value(), network_indices,
+                                        options.models / "ade20k_deeplabv3_mnv2_513_logits.pb", 513, folder, on_progress);
   if (!reference_labels) return makeError(reference_labels.error());
-  auto segmenter_labels = segmentFrames(reader.value(), indices, options.models / "ade20k_deeplabv3_mnv2_257_logits.pb",
-                                        257, folder, on_progress);
+  auto segmenter_labels = segmentFrames(reader.value(), network_indices,
+                                        options.models / "ade20k_deeplabv3_mnv2_257_logits.pb", 257, folder, on_progress);
   if (!segmenter_labels) return makeError(segmenter_labels.error());
-  out.segmentations = std::move(segmenter_labels).value();
+  out.segmentations.resize(indices.size());  // empty where the networks did not run
+  for (std::size_t k = 0; k < network_indices.size(); ++k)
+    out.segmentations[position(network_indices[k])] = std::move(segmenter_labels.value()[k]);
 
   // The reference labeling: the stronger network's labels fused over every frame (majority rule,
   // so no single frame's confidence dominates), raycast back into each frame as its truth.
@@ -200,10 +212,11 @@ Result<EvalSequence> loadSevenScenes(const SevenScenesOptions& options, const fs
   volume::LabeledVolume reference(reference_params);
   reference.mutableGeometryGrid().setTree(
       std::make_shared<volume::GeometryGrid::TreeType>(geometry.value().geometryGrid().tree()));
-  for (std::size_t k = 0; k < indices.size(); ++k) {
+  for (std::size_t k = 0; k < network_indices.size(); ++k) {
     const Segmentation& s = reference_labels.value()[k];
-    auto stats = volume::integrateLabels(reference, out.frames[k].depth, s.labels, s.confidence, out.intrinsics,
-                                         out.frames[k].camera_to_world);
+    const EvalFrame& frame = out.frames[position(network_indices[k])];
+    auto stats = volume::integrateLabels(reference, frame.depth, s.labels, s.confidence, out.intrinsics,
+                                         frame.camera_to_world);
     if (!stats) return makeError(stats.error());
   }
   render::RaycastOptions raycast_options;
@@ -216,8 +229,8 @@ Result<EvalSequence> loadSevenScenes(const SevenScenesOptions& options, const fs
   }
   out.present_labels = presentLabels(out.truth);
   out.reference_labeling = std::make_shared<const volume::LabeledVolume>(std::move(reference));
-  spdlog::info("7scenes: {} frames (stride {}), {} labels in the reference labeling", indices.size(), options.stride,
-               out.present_labels.size());
+  spdlog::info("7scenes: {} frames (stride {}, networks on every {}th), {} labels in the reference labeling",
+               indices.size(), options.stride, options.network_stride, out.present_labels.size());
   return out;
 }
 

@@ -4,8 +4,10 @@
 //  synthetic: the built-in room on an orbit, exact labels from the renderer, Kinect-like depth
 //    noise; rendered frames are cached on disk (depth TIFF, labels PNG).
 //  7scenes: redkitchen depth with its reference poses; the true labels are the raycast of a
-//    reference labeling (the ADE20K DeepLab-513 labels fused over all frames) into each frame,
-//    and `segmentations` holds the DeepLab-257 output (the real segmenter of experiment 3).
+//    reference labeling (the ADE20K DeepLab-513 labels fused over the frames the networks run on)
+//    into each frame, and `segmentations` holds the DeepLab-257 output (the real segmenter of
+//    experiment 3). The networks run on every network_stride-th frame only (they dominate the
+//    cost); truth comes from the raycast, so label passes can use more frames than that.
 //    Network outputs are cached on disk (labels PNG, confidence 16-bit PNG).
 #include <cstdint>
 #include <filesystem>
@@ -32,7 +34,8 @@ struct EvalSequence {
   PinholeIntrinsics intrinsics;
   std::vector<EvalFrame> frames;
   std::vector<cv::Mat> truth;                 // CV_16UC1 per frame, 0 = unlabeled
-  std::vector<Segmentation> segmentations;    // a real segmenter's output per frame (7scenes only)
+  std::vector<Segmentation> segmentations;    // a real segmenter's output per frame (7scenes only;
+                                              // empty labels where it did not run)
   std::vector<LabelId> present_labels;        // labels in `truth`: the noise models' wrong labels
   // 7scenes: the fused reference labeling whose raycasts are `truth` (experiment 3 scores
   // the real segmenter against it).
@@ -55,7 +58,8 @@ struct SevenScenesOptions {
   std::filesystem::path folder;       // 7-Scenes sequence folder
   std::filesystem::path models;       // folder with the ADE20K DeepLab .pb files
   int frames = 500;
-  int stride = 5;
+  int stride = 1;          // frames integrated and fused
+  int network_stride = 4;  // frames the networks segment: a multiple of stride
   volume::VolumeParams params;        // geometry of the reference labeling
 };
 

@@ -149,6 +149,7 @@ Status Experiments::perFrameVsVolumetric() {
       for (std::size_t i = 0; i < sequence.frames.size(); ++i) {
         auto labels = labelsFor(sequence, i, run_source);
         if (!labels) return makeError(labels.error());
+        if (labels.value().labels.empty()) continue;  // the segmenter did not run on this frame
         auto error = pixelLabelError(sequence.truth[i], labels.value().labels);
         if (!error) return makeError(sequence.name + " frame " + std::to_string(i) + ": " + error.error());
         if (error.value().compared > 0) per_frame.push_back(error.value().fraction());

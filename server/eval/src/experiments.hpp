@@ -6,12 +6,15 @@
 //  3 per-frame vs volumetric              -> exp3_per_frame_vs_volumetric.csv
 //  4 fusion rules side by side            -> exp4_rules.csv
 //  5 sensitivity to W_clamp and weights   -> exp5_clamp.csv / .dat, exp5_weight.csv (first run only)
+//  6 what limits the error (diagnosis)     -> exp6_diagnosis.csv
 #include <filesystem>
 #include <functional>
+#include <ostream>
 #include <map>
 #include <string>
 #include <vector>
 
+#include "label_diagnosis.hpp"
 #include "label_passes.hpp"
 #include "semfuse/core/result.hpp"
 
@@ -60,6 +63,7 @@ class Experiments {
   Status perFrameVsVolumetric();            // 3
   Status rulesSideBySide();                 // 4 (uses 1 and 2 for its error columns)
   Status sensitivity();                     // 5
+  Status diagnosis(const std::vector<double>& pixel_noise);  // 6 (label_diagnosis.hpp)
   Status writeSummary(const std::string& command, const std::string& notes) const;
 
   // Errors by (kind, dataset, rule, noise); for the summary and tests.
@@ -68,6 +72,7 @@ class Experiments {
   }
 
  private:
+  void writeDiagnosis(std::ostream& md) const;  // section 6 of the summary, when run
   Result<ErrorSummary> meanError(const Dataset& dataset, const volume::VolumeParams& params, const LabelSource& source,
                                  PassCost* cost = nullptr, double* sidecar_bytes = nullptr);
 
@@ -79,6 +84,7 @@ class Experiments {
   std::vector<RuleCost> costs_;
   std::map<std::tuple<volume::LabelRule, float>, std::pair<double, double>> clamp_;  // -> (pixel 50%, cnn)
   std::map<std::tuple<volume::LabelRule, WeightMode>, double> weight_;
+  std::map<std::tuple<std::string, volume::LabelRule, double>, LabelDiagnosis> diagnosis_;  // summed over runs
 };
 
 }  // namespace semfuse::eval

@@ -39,6 +39,7 @@ Result<Segmentation> labelsFor(const EvalSequence& sequence, std::size_t i, cons
   if (source.kind == LabelSourceKind::kSegmenter) {
     if (i >= sequence.segmentations.size()) return makeError(sequence.name + " has no segmenter output");
     clean = sequence.segmentations[i];
+    if (clean.labels.empty()) return clean;  // the network did not run on this frame
   } else {
     clean.labels = sequence.truth[i];
     clean.confidence = cv::Mat(clean.labels.size(), CV_32FC1, cv::Scalar(1.0f));
@@ -78,6 +79,7 @@ Result<PassCost> fuseLabels(volume::LabeledVolume& volume, const EvalSequence& s
   for (std::size_t i = 0; i < sequence.frames.size(); ++i) {
     auto labels = labelsFor(sequence, i, source);
     if (!labels) return makeError(labels.error());
+    if (labels.value().labels.empty()) continue;  // no segmentation of this frame
     const EvalFrame& frame = sequence.frames[i];
     auto stats = volume::integrateLabels(volume, frame.depth, labels.value().labels, labels.value().confidence,
                                          sequence.intrinsics, frame.camera_to_world);

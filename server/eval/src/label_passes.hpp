@@ -34,7 +34,8 @@ struct LabelSource {
 
 const char* weightModeName(WeightMode mode);
 
-// The segmentation a source gives for frame i (deterministic in source.seed and i).
+// The segmentation a source gives for frame i (deterministic in source.seed and i); empty labels
+// for a segmenter source on a frame the segmenter did not run on.
 Result<Segmentation> labelsFor(const EvalSequence& sequence, std::size_t i, const LabelSource& source);
 
 // A copy of the (label-free) geometry with the params' label rule and an empty sidecar.
