@@ -119,9 +119,10 @@ Result<RunResult> trackSequence(const FrameSource& source, std::size_t frames, c
       ++run.lost;
     }
     if (verbose || !t.shouldIntegrate())
-      std::printf("frame %3zu %-11s %-20s inliers %.2f rms %.2f mm rcond %.1e iters %2d %.1f ms  err %.1f mm"
+      std::printf("frame %3zu %-11s %-20s inliers %.2f agree %.2f rms %.2f mm rcond %.1e iters %2d %.1f ms  err %.1f mm"
                   "  ref step %.1f mm\n", i,
                   tracking::toString(t.status), tracking::toString(t.lost_reason), t.quality.inlier_ratio,
+                  t.quality.observed_agreement,
                   t.quality.rms_residual_m * 1e3, t.quality.hessian_rcond, t.quality.iterations, track_ms,
                   (t.pose.translation() - reference.translation()).norm() * 1e3,
                   run.reference.empty() ? 0.0 : (reference.translation() - run.reference.back().translation()).norm() * 1e3);

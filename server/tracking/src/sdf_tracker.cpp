@@ -61,6 +61,7 @@ NormalEquations accumulate(const std::vector<Eigen::Vector3f>& points, Samplers&
         for (std::size_t i = range.begin(); i != range.end(); ++i) {
           const Eigen::Vector3f q = rotation * points[i] + translation;
           if (!sampler.sample(q, sample)) continue;  // unobserved: no information
+          ++system.observed;
           const float r = sample.distance;
           if (!(std::abs(r) < model.band)) continue;  // flat truncated region (or NaN)
           if (sample.gradient.squaredNorm() < 1e-12f) continue;
@@ -90,6 +91,8 @@ Status SdfTracker::validate(const TrackerParams& p) {
   if (!(p.robust_scale > 0.0f) || !(p.band_fraction > 0.0f) || !(p.band_fraction <= 1.0f) ||
       !(p.inlier_fraction > 0.0f))
     return makeError("robust_scale, band_fraction (<= 1) and inlier_fraction must be > 0");
+  if (!(p.max_correction_fraction > 0.0f) || !(p.max_correction_rad > 0.0))
+    return makeError("max_correction_fraction and max_correction_rad must be > 0");
   if (!(p.damping >= 0.0) || !(p.convergence_norm >= 0.0))
     return makeError("damping and convergence_norm must not be negative");
   return Status::Ok();
@@ -147,6 +150,9 @@ TrackingQuality SdfTracker::assess(const NormalEquations& system) const {
   q.points = pyramid_.points(0).size();
   q.inliers = system.inliers;
   q.inlier_ratio = q.points > 0 ? static_cast<double>(q.inliers) / static_cast<double>(q.points) : 0.0;
+  q.observed = system.observed;
+  q.observed_agreement =
+      q.observed > 0 ? static_cast<double>(q.inliers) / static_cast<double>(q.observed) : 0.0;
   q.rms_residual_m = q.inliers > 0 ? std::sqrt(system.inlier_sq_sum / static_cast<double>(q.inliers)) : 0.0;
   if (system.residuals == 0) return q;
   // Rotational columns of J are (q x grad), metres times the translational ones; scaling them by
@@ -175,7 +181,7 @@ LostReason SdfTracker::judge(const TrackingQuality& q, float truncation, const P
   // In the camera frame, so the translation is how far the camera centre moved (a world-frame
   // difference would grow with the distance from the world origin).
   const Pose correction = guess.inverse() * result;
-  if (correction.translation().norm() > params_.max_correction_m ||
+  if (correction.translation().norm() > params_.max_correction_fraction * truncation ||
       rotationAngle(correction.linear()) > params_.max_correction_rad)
     return LostReason::kDiverged;
   return LostReason::kNone;

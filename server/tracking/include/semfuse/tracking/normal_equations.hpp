@@ -16,6 +16,7 @@ struct NormalEquations {
   std::array<double, 6> jtr{};   // J^T W r
   double weighted_cost = 0.0;    // sum of w r^2
   std::size_t residuals = 0;     // points that contributed
+  std::size_t observed = 0;      // points that landed where the field was observed (any |D|)
   std::size_t inliers = 0;       // points with |r| below the inlier threshold
   double inlier_sq_sum = 0.0;    // sum of r^2 over inliers
 
@@ -37,6 +38,7 @@ struct NormalEquations {
     for (std::size_t k = 0; k < jtr.size(); ++k) jtr[k] += other.jtr[k];
     weighted_cost += other.weighted_cost;
     residuals += other.residuals;
+    observed += other.observed;
     inliers += other.inliers;
     inlier_sq_sum += other.inlier_sq_sum;
   }

@@ -34,6 +34,8 @@ struct TrackingQuality {
   std::size_t points = 0;    // finest-level points evaluated at the final pose
   std::size_t inliers = 0;
   double inlier_ratio = 0.0;
+  std::size_t observed = 0;       // points that landed where the map was observed, at any |D|
+  double observed_agreement = 0.0;  // inliers / observed
   double rms_residual_m = 0.0;  // RMS of D over the inliers
   double hessian_min_eigenvalue = 0.0;  // of the depth-scaled Hessian, per point
   double hessian_max_eigenvalue = 0.0;

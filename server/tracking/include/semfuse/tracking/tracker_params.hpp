@@ -40,9 +40,14 @@ struct TrackerParams {
   // mean scene depth (so both blocks are in metres): a plane or a corridor leaves directions
   // unconstrained, its min eigenvalue collapses and the pose along them would be noise.
   double min_hessian_rcond = 2e-3;
-  // Larger corrections than these from the starting guess are treated as divergence.
-  double max_correction_m = 0.3;
-  double max_correction_rad = 0.5;
+  // Larger corrections than these from the starting guess are treated as divergence. The basin
+  // of convergence is about the truncation band: from farther away most points start in the flat
+  // truncated region or in unobserved space, and the few that pull settle on whatever surface is
+  // near (a 50 cm jump in a room slid along the walls to a pose 40 cm off with 43 % inliers, which
+  // no residual test could tell from new territory). A correction beyond the band is therefore
+  // not trusted, whatever the residuals say.
+  float max_correction_fraction = 2.0f;  // x truncation, camera centre
+  double max_correction_rad = 0.25;      // ~14 degrees: 10 degree offsets are still recovered
 };
 
 }  // namespace semfuse::tracking

@@ -1,0 +1,62 @@
+// Jumps far beyond the basin of convergence: the synthetic orbit taken in 20 frames moves the
+// camera ~50 cm and ~18 degrees between frames, while a 5 cm band pulls in a few centimetres.
+// The alignment then settles on some wrong pose; the quality checks must report it lost instead of
+// letting it be integrated (which would corrupt the map and every later frame).
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "semfuse/synthetic/synthetic_sequence.hpp"
+#include "semfuse/tracking/camera_tracking.hpp"
+#include "semfuse/tracking/volume_field.hpp"
+#include "semfuse/volume/integrator.hpp"
+#include "tracking_fixtures.hpp"
+
+namespace semfuse::tracking::testing {
+namespace {
+
+// The benchmark's map: 1 cm voxels, 5 cm truncation.
+volume::VolumeParams benchMapParams() {
+  volume::VolumeParams params;
+  params.voxel_size = 0.01;
+  params.truncation = 0.05;
+  params.integrate_color = false;
+  return params;
+}
+
+TEST(TrackingDivergence, JumpsBeyondTheBasinAreLostNotAccepted) {
+  synthetic::SequenceConfig config;
+  config.trajectory.frame_count = 20;
+  const synthetic::SyntheticSequence sequence(config);
+  const double step = (sequence.pose(1).translation() - sequence.pose(0).translation()).norm();
+  ASSERT_GT(step, 0.4) << "the test needs jumps far beyond the 5 cm band";
+
+  volume::LabeledVolume map(benchMapParams());
+  const VolumeField field(map);
+  SdfTracker tracker;
+  CameraTrackState state;
+  state.initial_pose = sequence.pose(0);
+  int lost = 0;
+  for (int i = 0; i < sequence.frameCount(); ++i) {
+    Result<Frame> frame = sequence.frame(i, /*with_pose=*/false);
+    ASSERT_TRUE(frame.ok()) << frame.error();
+    Result<TrackedFrame> tracked = trackFrame(tracker, frame.value(), field, state);
+    ASSERT_TRUE(tracked.ok()) << tracked.error();
+    const TrackedFrame& t = tracked.value();
+    if (!t.shouldIntegrate()) {
+      ++lost;
+      continue;
+    }
+    // Exact depth: an accepted pose is right to millimetres, anything else was accepted wrongly.
+    EXPECT_LT(translationError(t.pose, sequence.pose(i)), 0.01)
+        << "frame " << i << " accepted " << translationError(t.pose, sequence.pose(i)) << " m from the truth"
+        << " (inliers " << t.quality.inlier_ratio << ", agreement " << t.quality.observed_agreement << ")";
+    EXPECT_LT(rotationErrorDeg(t.pose, sequence.pose(i)), 0.5) << "frame " << i;
+    ASSERT_TRUE(volume::integrate(map, frame.value().depth, cv::Mat(), frame.value().intrinsics, t.pose).ok());
+  }
+  // Every frame after the first jumps from the last good pose by more than the basin.
+  EXPECT_EQ(lost, sequence.frameCount() - 1);
+}
+
+}  // namespace
+}  // namespace semfuse::tracking::testing
