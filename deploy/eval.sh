@@ -7,7 +7,9 @@
 #   deploy/eval.sh --no-build ...    use the existing build; other options go to semfuse-eval
 #
 # Rendered synthetic frames and DeepLab outputs are cached under out/eval/ (delete it to recompute).
-# About 10-20 minutes on a 2-core machine the first time (DeepLab on 7-Scenes dominates).
+# About 30 minutes on a 2-core machine shared with other jobs (load ~8): the label passes dominate
+# (2 synthetic runs of 600 frames and 250 7-Scenes frames, per noise level and rule); DeepLab on
+# the 125 7-Scenes frames it segments adds ~2 minutes the first time. --no-7scenes: ~12 minutes.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build=1
