@@ -6,8 +6,7 @@
 #
 #   deploy/fuzz.sh                      every target for 10 s (what CI runs)
 #   deploy/fuzz.sh --seconds 600        the long campaign: 10 minutes per target
-#   deploy/fuzz.sh --only frame_cdr     one target (repeatable)
-#   deploy/fuzz.sh --all                also the targets with known upstream findings (map_file)
+#   deploy/fuzz.sh --only frame_cdr     one target (repeatable; builds only the targets named)
 #   deploy/fuzz.sh --build-only         configure and build, run nothing
 #   deploy/fuzz.sh --build-dir DIR      build there instead of build/fuzz ($SEMFUSE_FUZZ_BUILD_DIR)
 #
@@ -20,21 +19,15 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${SEMFUSE_FUZZ_BUILD_DIR:-$root/build/fuzz}"
 seconds=10
 build_only=0
-all=0
 only=()
-# Targets left out unless named or --all: map_file reaches OpenVDB 10's reader, which trusts
-# the sizes in a file (docs/fuzzing.md, "Findings"): it fails within a minute on that upstream
-# code, which semfuse cannot fix, so it would only make CI flaky.
-upstream_findings=(map_file)
 jobs="${SEMFUSE_JOBS:-$(nproc)}"
 
-usage() { sed -n '2,17p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; }
+usage() { sed -n '2,16p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; }
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --seconds) seconds="$2"; shift 2 ;;
     --only) only+=("$2"); shift 2 ;;
     --build-only) build_only=1; shift ;;
-    --all) all=1; shift ;;
     --build-dir) build="$2"; shift 2 ;;
     -h|--help) usage; exit 0 ;;
     *) echo "fuzz: unknown argument '$1'" >&2; usage >&2; exit 2 ;;
@@ -59,21 +52,18 @@ cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release \
   -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \
   -DSEMFUSE_BUILD_FUZZERS=ON -DSEMFUSE_BUILD_TESTS=OFF -DSEMFUSE_BUILD_BENCHMARKS=OFF >/dev/null
 # Only the fuzzers and the libraries they link: no server, clients or tests.
-cmake --build "$build" -j "$jobs" --target semfuse_fuzzers
+if [[ ${#only[@]} -gt 0 ]]; then
+  cmake --build "$build" -j "$jobs" --target "${only[@]/#/fuzz_}"
+else
+  cmake --build "$build" -j "$jobs" --target semfuse_fuzzers
+fi
 [[ $build_only -eq 1 ]] && exit 0
 
 targets=()
 if [[ ${#only[@]} -gt 0 ]]; then
   targets=("${only[@]}")
 else
-  for dir in "$root"/fuzz/corpus/*/; do
-    target="$(basename "$dir")"
-    if [[ $all -eq 0 && " ${upstream_findings[*]} " == *" $target "* ]]; then
-      echo "fuzz: skipping $target (known upstream findings; --all or --only $target runs it)"
-      continue
-    fi
-    targets+=("$target")
-  done
+  for dir in "$root"/fuzz/corpus/*/; do targets+=("$(basename "$dir")"); done
 fi
 
 # Sanitizers: any report is fatal; leaks too (a decoder must not lose memory on bad input).
