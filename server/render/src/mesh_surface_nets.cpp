@@ -1,0 +1,239 @@
+#include "mesh_surface_nets.hpp"
+
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "mesh_cells.hpp"
+
+namespace semfuse::render::detail {
+namespace {
+
+constexpr std::size_t kLeavesPerTask = 16;
+
+// Corner k = dx + 2 dy + 4 dz of a cell.
+struct CellCorners {
+  volume::PackedVoxel packed[8];
+  float tsdf[8];
+  bool inside[8];
+};
+
+CellCorners gatherCorners(const VoxelBlock& block, int x, int y, int z) {
+  CellCorners corners;
+  for (int k = 0; k < 8; ++k) {
+    corners.packed[k] = block.at(x + (k & 1), y + ((k >> 1) & 1), z + ((k >> 2) & 1));
+    corners.tsdf[k] = volume::unpackTsdf(corners.packed[k]);
+    // The same test as mesh_cells.cpp's, on the bits, so that every cell it kept has a crossing.
+    const auto bits = static_cast<uint64_t>(corners.packed[k]);
+    corners.inside[k] = (bits & 0x8000u) != 0 && (bits & 0x7FFFu) != 0;
+  }
+  return corners;
+}
+
+// The mean of the points where the zero level crosses the cell's 12 edges, in the cell's own
+// coordinates ([0, 1]^3), each crossing interpolated linearly along its edge.
+Eigen::Vector3f meanCrossing(const CellCorners& c) {
+  Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+  int crossings = 0;
+  for (int k = 0; k < 8; ++k)
+    for (int axis = 0; axis < 3; ++axis) {
+      const int step = 1 << axis;
+      if ((k & step) != 0 || c.inside[k] == c.inside[k | step]) continue;
+      float t = c.tsdf[k] / (c.tsdf[k] - c.tsdf[k | step]);
+      if (!(t >= 0.0f && t <= 1.0f)) t = 0.5f;  // NaN or inf in a loaded map: keep the vertex in the cell
+      Eigen::Vector3f point(static_cast<float>(k & 1), static_cast<float>((k >> 1) & 1),
+                            static_cast<float>((k >> 2) & 1));
+      point[axis] = t;
+      sum += point;
+      ++crossings;
+    }
+  return sum / static_cast<float>(crossings);  // >= 1: the cell has corners on both sides
+}
+
+// Unit gradient of the trilinear interpolant of the corners at p (cell coordinates): the normal,
+// pointing towards free space. Zero where the gradient vanishes.
+Eigen::Vector3f normalAt(const CellCorners& c, const Eigen::Vector3f& p) {
+  const float* v = c.tsdf;
+  const float dx00 = v[1] - v[0], dx10 = v[3] - v[2], dx01 = v[5] - v[4], dx11 = v[7] - v[6];
+  const float a00 = v[0] + dx00 * p.x(), a10 = v[2] + dx10 * p.x();
+  const float a01 = v[4] + dx01 * p.x(), a11 = v[6] + dx11 * p.x();
+  const float b0 = a00 + (a10 - a00) * p.y(), b1 = a01 + (a11 - a01) * p.y();
+  const Eigen::Vector3f gradient((1 - p.z()) * (dx00 + (dx10 - dx00) * p.y()) + p.z() * (dx01 + (dx11 - dx01) * p.y()),
+                                 (1 - p.z()) * (a10 - a00) + p.z() * (a11 - a01), b1 - b0);
+  const float norm = gradient.norm();
+  return norm > 0.0f ? Eigen::Vector3f(gradient / norm) : Eigen::Vector3f::Zero();
+}
+
+// Writes position, normal, label, score and colour of every vertex of leaf i, at the indices
+// LeafCells::vertex gives.
+void placeVertices(const volume::LabeledVolume& volume, const LeafTable& leaves, std::size_t i,
+                   const LeafCells& cells, volume::ColorGrid::ConstAccessor* colors, LabeledMesh& mesh) {
+  const VoxelBlock block(leaves, i);
+  const openvdb::Coord origin = leaves.leaf(i).origin();
+  const auto voxel_size = static_cast<float>(volume.voxelSize());
+  uint32_t index = cells.first_vertex;
+  for (int x = 0; x < kLeafDim; ++x)
+    for (uint64_t word = cells.surface[x]; word != 0; word &= word - 1, ++index) {
+      const int bit = __builtin_ctzll(word);
+      const int y = bit >> 3, z = bit & 7;
+      const CellCorners corners = gatherCorners(block, x, y, z);
+      const Eigen::Vector3f p = meanCrossing(corners);
+      const openvdb::Coord cell = origin.offsetBy(x, y, z);
+      mesh.vertices[index] = (Eigen::Vector3f(static_cast<float>(cell.x()), static_cast<float>(cell.y()),
+                                              static_cast<float>(cell.z())) + p) * voxel_size;
+      mesh.normals[index] = normalAt(corners, p);
+      // The nearest voxel is the nearest corner: the one on the same side of 0.5 on every axis.
+      const int nearest = (p.x() >= 0.5f ? 1 : 0) | (p.y() >= 0.5f ? 2 : 0) | (p.z() >= 0.5f ? 4 : 0);
+      mesh.labels[index] = volume::unpackLabel(corners.packed[nearest]);
+      mesh.scores[index] = volume::unpackScore(corners.packed[nearest]);
+      if (colors)
+        mesh.colors[index] = volume::unpackColor(
+            colors->getValue(cell.offsetBy(nearest & 1, (nearest >> 1) & 1, (nearest >> 2) & 1)));
+    }
+}
+
+// The cells of a leaf and of its -x, -y, -z neighbours: a quad joins the four cells around an
+// edge, and for edges on the leaf's lower faces some of them lie in those neighbours.
+class LowerCells {
+ public:
+  LowerCells(const LeafTable& leaves, const std::vector<LeafCells>& cells, std::size_t i) {
+    for (int a = 0; a < 2; ++a)
+      for (int b = 0; b < 2; ++b)
+        for (int c = 0; c < 2; ++c) {
+          const uint32_t n = leaves.neighbour(i, -a, -b, -c);
+          around_[a][b][c] = n == LeafTable::kNone ? nullptr : &cells[n];
+        }
+  }
+  // Mesh index of the vertex of cell (x, y, z), -1 <= x, y, z <= 7 in the leaf's coordinates.
+  bool vertex(int x, int y, int z, uint32_t& index) const {
+    const LeafCells* owner = around_[x < 0][y < 0][z < 0];
+    if (owner == nullptr || !owner->isSurface(x & 7, y & 7, z & 7)) return false;
+    index = owner->vertex(x & 7, y & 7, z & 7);
+    return true;
+  }
+
+ private:
+  const LeafCells* around_[2][2][2];  // [x < 0][y < 0][z < 0]
+};
+
+// Calls emit(a, b, c, d) for every crossed voxel edge that starts at a voxel of leaf i and whose
+// four cells all carry a vertex, with their vertex indices counter-clockwise seen from the free
+// (tsdf > 0) side. The edge from voxel v along an axis is surrounded by the cells whose lowest
+// corners are v, v - u, v - w and v - u - w, u and w the other two axes: cell v is the one the
+// loop is at, so every such edge is visited exactly once, from a cell that carries a vertex.
+template <typename Emit>
+void forEachQuad(const LeafTable& leaves, const std::vector<LeafCells>& all_cells, std::size_t i, Emit&& emit) {
+  const LeafCells& cells = all_cells[i];
+  const LowerCells lower(leaves, all_cells, i);
+  uint32_t self = cells.first_vertex;
+  for (int x = 0; x < kLeafDim; ++x)
+    for (uint64_t word = cells.surface[x]; word != 0; word &= word - 1, ++self) {
+      const int bit = __builtin_ctzll(word);
+      const int y = bit >> 3, z = bit & 7;
+      const bool inside = cells.isInside(x, y, z);
+      // Listed (a, b, self, d) so that they turn counter-clockwise around +axis: seen from the
+      // + end of the edge. That end is the free side when v is inside; otherwise reverse.
+      auto quad = [&](bool crossed, int ax, int ay, int az, int bx, int by, int bz, int dx, int dy, int dz) {
+        uint32_t a, b, d;
+        if (!crossed || !lower.vertex(ax, ay, az, a) || !lower.vertex(bx, by, bz, b) || !lower.vertex(dx, dy, dz, d))
+          return;
+        if (inside)
+          emit(a, b, self, d);
+        else
+          emit(a, d, self, b);
+      };
+      quad(cells.isInside(x + 1, y, z) != inside, x, y - 1, z - 1, x, y, z - 1, x, y - 1, z);
+      quad(cells.isInside(x, y + 1, z) != inside, x - 1, y, z - 1, x - 1, y, z, x, y, z - 1);
+      quad(cells.isInside(x, y, z + 1) != inside, x - 1, y - 1, z, x, y - 1, z, x - 1, y, z);
+    }
+}
+
+// Which diagonal of quad abcd to split along: the one whose two triangles turn the same way most.
+// Vertices sit anywhere in their cells, so a quad can be bent or, seen from its normal, not convex;
+// a split along the wrong diagonal then folds one triangle over the other.
+bool splitAlongAC(const Eigen::Vector3f& a, const Eigen::Vector3f& b, const Eigen::Vector3f& c,
+                  const Eigen::Vector3f& d) {
+  auto agreement = [](const Eigen::Vector3f& n1, const Eigen::Vector3f& n2) {
+    const float norms = n1.norm() * n2.norm();
+    return norms > 0.0f ? n1.dot(n2) / norms : -1.0f;
+  };
+  const float along_ac = agreement((b - a).cross(c - a), (c - a).cross(d - a));
+  const float along_bd = agreement((b - a).cross(d - a), (c - b).cross(d - b));
+  return along_ac >= along_bd;
+}
+
+template <typename Body>
+void forEachLeaf(std::size_t count, Body&& body) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kLeavesPerTask),
+                    [&](const tbb::blocked_range<std::size_t>& range) { body(range); });
+}
+
+}  // namespace
+
+Result<LabeledMesh> surfaceNetsMesh(const volume::LabeledVolume& volume,
+                                    const std::optional<openvdb::CoordBBox>& cell_bounds) {
+  LabeledMesh mesh;
+  const LeafTable leaves(volume.geometryGrid().tree());
+  const std::size_t leaf_count = leaves.size();
+
+  // Pass 1: which cells carry a vertex; then number the vertices leaf after leaf.
+  std::vector<LeafCells> cells(leaf_count);
+  forEachLeaf(leaf_count, [&](const tbb::blocked_range<std::size_t>& range) {
+    for (std::size_t i = range.begin(); i < range.end(); ++i) cells[i] = classifyCells(leaves, i, cell_bounds);
+  });
+  uint64_t vertex_count = 0;
+  for (LeafCells& c : cells) {
+    c.first_vertex = static_cast<uint32_t>(vertex_count);
+    vertex_count += c.vertex_count;
+  }
+  if (vertex_count > std::numeric_limits<uint32_t>::max())
+    return makeError("mesh too large: " + std::to_string(vertex_count) + " vertices");
+
+  // Pass 2: vertices with their attributes, and how many quads each leaf will emit.
+  mesh.vertices.resize(vertex_count);
+  mesh.normals.resize(vertex_count);
+  mesh.labels.resize(vertex_count);
+  mesh.scores.resize(vertex_count);
+  if (volume.hasColor() && volume.colorGrid()) mesh.colors.resize(vertex_count);
+  std::vector<uint64_t> first_quad(leaf_count + 1, 0);
+  forEachLeaf(leaf_count, [&](const tbb::blocked_range<std::size_t>& range) {
+    std::optional<volume::ColorGrid::ConstAccessor> colors;
+    if (!mesh.colors.empty()) colors.emplace(volume.colorGrid()->getConstAccessor());
+    for (std::size_t i = range.begin(); i < range.end(); ++i) {
+      if (cells[i].vertex_count == 0) continue;
+      placeVertices(volume, leaves, i, cells[i], colors ? &*colors : nullptr, mesh);
+      uint64_t quads = 0;
+      forEachQuad(leaves, cells, i, [&](uint32_t, uint32_t, uint32_t, uint32_t) { ++quads; });
+      first_quad[i + 1] = quads;
+    }
+  });
+  for (std::size_t i = 0; i < leaf_count; ++i) first_quad[i + 1] += first_quad[i];
+
+  // Pass 3: the triangles, two per quad, leaf after leaf.
+  mesh.triangles.resize(2 * first_quad[leaf_count]);
+  forEachLeaf(leaf_count, [&](const tbb::blocked_range<std::size_t>& range) {
+    for (std::size_t i = range.begin(); i < range.end(); ++i) {
+      if (cells[i].vertex_count == 0) continue;
+      std::array<uint32_t, 3>* out = mesh.triangles.data() + 2 * first_quad[i];
+      forEachQuad(leaves, cells, i, [&](uint32_t a, uint32_t b, uint32_t c, uint32_t d) {
+        if (splitAlongAC(mesh.vertices[a], mesh.vertices[b], mesh.vertices[c], mesh.vertices[d])) {
+          *out++ = {a, b, c};
+          *out++ = {a, c, d};
+        } else {
+          *out++ = {a, b, d};
+          *out++ = {b, c, d};
+        }
+      });
+    }
+  });
+  return mesh;
+}
+
+}  // namespace semfuse::render::detail
