@@ -18,7 +18,7 @@ struct TrackerParams {
   // large steps cheaply; the finest only polishes. From a large offset (~10 degrees) most points
   // start outside the truncation band and the few inside pull the pose in over 20-40 small steps;
   // between consecutive frames the convergence test ends the coarse level after a few.
-  std::array<int, kMaxPyramidLevels> max_iterations{4, 8, 40, 40};
+  std::array<int, kMaxPyramidLevels> max_iterations{2, 8, 40, 40};
   // Converged when the update twist is this small (metres and radians together).
   double convergence_norm = 1e-4;
 
