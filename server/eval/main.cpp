@@ -220,10 +220,10 @@ int run(const Options& o) {
         << " frames each at " << static_cast<int>(640 * o.synthetic_scale) << "x"
         << static_cast<int>(480 * o.synthetic_scale) << " with Kinect-like depth noise.";
   if (o.seven_scenes)
-    notes << " 7-Scenes redkitchen: frames 0-" << o.seven_scenes_frames - 1 << ", every " << o.stride
-          << (o.stride == 1 ? "" : "th") << " frame integrated and fused, 640x480 with the dataset's poses; the"
+    notes << " 7-Scenes redkitchen: frames 0-" << o.seven_scenes_frames - 1 << ", one frame in " << o.stride
+          << " integrated and fused, 640x480 with the dataset's poses; the"
           << " per-frame truth is the raycast of a reference labeling (DeepLab-513 labels fused with the majority rule"
-          << " over every " << o.network_stride << "th frame: DeepLab-513 takes 0.6 s per frame on an idle 2-core machine,"
+          << " over one frame in " << o.network_stride << ": DeepLab-513 takes 0.6 s per frame on an idle 2-core machine,"
           << " several times that under load, as the run's log reports, so the networks run on those frames only and"
           << " their outputs are cached); experiment 3's DeepLab-257 runs on the same frames.";
   notes << "\n\nEvery rule is scored against its own noise-free labeling (the paper's reference: labels fused from"
