@@ -9,7 +9,7 @@
 # Rendered synthetic frames and DeepLab outputs are cached under out/eval/ (delete it to recompute).
 # About 43 minutes on a 2-core machine shared with other jobs (load ~8): the label passes dominate
 # (2 synthetic runs of 600 frames and 250 7-Scenes frames, per noise level and rule); DeepLab on
-# the 125 7-Scenes frames it segments adds ~2 minutes the first time. Well under 20 minutes on an idle machine.
+# the 125 7-Scenes frames it segments adds ~2 minutes the first time. CPU time 22 min (user), so about 11-22 minutes alone on 2 cores.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build=1
