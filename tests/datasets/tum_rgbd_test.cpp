@@ -1,6 +1,9 @@
 #include "semfuse/datasets/tum_rgbd.hpp"
 
 #include <fstream>
+#include <string>
+
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>
@@ -16,7 +19,12 @@ namespace fs = std::filesystem;
 class TumFolder : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / "semfuse_tum_test" / "rgbd_dataset_freiburg2_unit";
+    // ctest runs each test as its own process, in parallel: one folder per test and process, or
+    // one test's TearDown deletes the folder another is reading.
+    const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() /
+           ("semfuse_tum_test_" + std::string(test->name()) + "_" + std::to_string(::getpid())) /
+           "rgbd_dataset_freiburg2_unit";
     fs::remove_all(dir_.parent_path());
     fs::create_directories(dir_ / "rgb");
     fs::create_directories(dir_ / "depth");

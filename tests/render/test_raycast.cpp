@@ -1,5 +1,8 @@
 // Raycast depth, normals and labels of fused analytic surfaces against their exact renderings.
 #include <cmath>
+#include <string>
+
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>
@@ -177,7 +180,7 @@ TEST_F(RaycastTest, SaveLoadRaycastIsBitIdentical) {
   no_color.integrate_color = false;
   volume::LabeledVolume fused{no_color};
   testing::fuse(fused, scene_, testing::arcAround({0.1, 0.05, 0.2}, 1.2, 0.7, 6));
-  const auto path = std::filesystem::temp_directory_path() / "semfuse_render_roundtrip.vdb";
+  const auto path = std::filesystem::temp_directory_path() / ("semfuse_render_roundtrip_" + std::to_string(::getpid()) + ".vdb");
   const Status saved = volume::saveMap(fused, LabelLegend{}, path);
   ASSERT_TRUE(saved.ok()) << saved.error();
   auto loaded = volume::loadMap(path);

@@ -1,9 +1,14 @@
 // semfuse-server as a real process over loopback DDS: a camera stream of the synthetic room with
 // poses, ground-truth segmentations (every third one late and out of order), bad input of every
 // kind, queries, and a restart from the saved map.
+#include <sys/wait.h>
+
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <map>
 
 #include <gtest/gtest.h>
@@ -257,3 +262,25 @@ TEST_F(ServerEndToEnd, RejectsBadInputCountsItAndKeepsServing) {
   EXPECT_EQ(reply.value()->status, 0) << dds::replyMessage(*reply.value());
   EXPECT_TRUE(h.serverRunning());
 }
+
+namespace {
+
+// The top-5 label rules keep runners-up as 10-bit ids: a legend with a larger id is refused at
+// startup (with the rule that would work) instead of losing those labels' evidence silently.
+TEST_F(ServerEndToEnd, RefusesALegendBeyondTheTopFiveRulesIdRange) {
+  const auto legend = dir_ / "wide.yaml";
+  std::ofstream(legend) << "name: wide\nlabels:\n  - {id: 1, name: floor}\n  - {id: 2000, name: rare thing}\n";
+  const auto log = dir_ / "server.log";
+  const std::string command = std::string(SEMFUSE_SERVER_EXE) + " --domain-id 232 --legend " + legend.string() +
+                              " --label-rule bayes > " + log.string() + " 2>&1 < /dev/null";
+  const int status = std::system(command.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 1);
+  std::ifstream in(log);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("keeps label ids up to 1023, but legend 'wide' has id 2000; use --label-rule evidence"),
+            std::string::npos)
+      << text;
+}
+
+}  // namespace

@@ -259,6 +259,40 @@ TEST_F(DamagedMapFile, AResealedMapWithAnotherFormatVersionIsRefusedByTheMetadat
   EXPECT_NE(error.find("map format version 99 is not supported"), std::string::npos) << error;
 }
 
+// The fixture's map re-sealed with another format version written into its metadata.
+std::string withFormatVersion(const std::string& sealed, int version) {
+  const std::string key = "semfuse:format_version";
+  const std::size_t value_at = sealed.find(key) + key.size() + 4 + 5 + 4;
+  const std::size_t payload = sealed.size() - 32;
+  std::string edited = sealed;
+  putLittleEndianAt(edited, value_at, static_cast<uint64_t>(version), 4);
+  putLittleEndianAt(edited, payload + 24, crc64xz(edited.substr(0, payload)));
+  return edited;
+}
+
+TEST_F(DamagedMapFile, VersionTwoLoadsWithTheEvidenceRuleAndIsRefusedWithATopFiveRule) {
+  ASSERT_EQ(labeledPlane().params().label_rule, LabelRule::kEvidence);
+  EXPECT_EQ(loadError(withFormatVersion(bytes_, 2)), "");
+
+  VolumeParams params;
+  params.label_rule = LabelRule::kBayes;
+  LabeledVolume bayes(params);
+  const PinholeIntrinsics k = testing::smallCamera();
+  const Pose pose = testing::lookAt({0, 0, 0}, {0, 0, 1});
+  const cv::Mat labels(k.height, k.width, CV_16UC1, cv::Scalar(4));
+  const cv::Mat confidence(k.height, k.width, CV_32FC1, cv::Scalar(0.6));
+  const cv::Mat color(k.height, k.width, CV_8UC3, cv::Scalar(10, 120, 230));
+  ASSERT_TRUE(integrate(bayes, testing::renderPlane(k, pose, {0, 0, -1}, -1.0), color, labels, confidence, k, pose).ok());
+  const fs::path path = folder_ / "bayes.vdb";
+  ASSERT_TRUE(saveMap(bayes, legend(), path).ok());
+  std::ifstream in(path, std::ios::binary);
+  const std::string sealed((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(loadError(sealed), "");
+  const std::string error = loadError(withFormatVersion(sealed, 2));
+  EXPECT_NE(error.find("map format version 2 stores the 'bayes' rule's candidates as a top-3 list"), std::string::npos)
+      << error;
+}
+
 TEST_F(DamagedMapFile, NonMapFilesAreRefused) {
   const std::string text = loadError("this is not a map");
   EXPECT_NE(text.find("no integrity trailer"), std::string::npos) << text;

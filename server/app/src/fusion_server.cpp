@@ -47,6 +47,11 @@ MapperOptions mapperOptions(const ServerConfig& config, const LabelLegend& legen
   auto rule = volume::parseLabelRule(config.label_rule);
   if (!rule) throw std::runtime_error("--label-rule: " + rule.error());
   options.volume.label_rule = rule.value();
+  // The top-5 rules store runners-up in 10 bits: a legend beyond that would lose labels silently.
+  if (volume::usesLabelSidecar(rule.value()) && legend.maxId() > volume::kMaxRunnerUpLabel)
+    throw std::runtime_error("--label-rule " + config.label_rule + " keeps label ids up to " +
+                             std::to_string(volume::kMaxRunnerUpLabel) + ", but legend '" + legend.name +
+                             "' has id " + std::to_string(legend.maxId()) + "; use --label-rule evidence");
   options.volume.label_classes = static_cast<int>(std::clamp<std::size_t>(legend.labels.size(), 2, 65535));
   options.volume.min_depth = config.min_depth;
   options.volume.max_depth = config.max_depth;

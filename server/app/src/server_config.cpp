@@ -20,7 +20,7 @@ void addServerOptions(CLI::App& app, ServerConfig& c) {
   app.add_option("--max-label-score", c.max_label_score,
                  "label score clamp W_clamp (0 = library default)")->group(map)->capture_default_str();
   app.add_option("--label-rule", c.label_rule,
-                 "label fusion: bayes (top-3 log-probabilities), majority (top-3 counts) or evidence "
+                 "label fusion: bayes (top-5 log-probabilities), majority (top-5 counts) or evidence "
                  "(the paper's Algorithm 1); see docs/eval")
       ->group(map)->capture_default_str()->check(CLI::IsMember({"evidence", "majority", "bayes"}));
   app.add_option("--min-depth", c.min_depth, "ignore depth below, metres")->group(map)->capture_default_str();

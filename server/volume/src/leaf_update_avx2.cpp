@@ -1,7 +1,7 @@
 // The AVX2 + F16C leaf update: one z-column of 8 voxels per 256-bit register. Projection, depth
 // gather, band tests, the TSDF/weight running average, half conversions (vcvtph2ps/vcvtps2ph),
 // the colour blend and the evidence rule (Algorithm 1, as masks and blends) run 8 voxels at a
-// time; the top-3 label rules, with their sidecar, stay per voxel on the lanes that need them.
+// time; the top-5 label rules, with their sidecar, stay per voxel on the lanes that need them.
 //
 // Only these functions carry target("avx2,f16c"): the rest of the library, and every inline
 // library function this file instantiates out of line, stays baseline x86-64, so nothing compiled
@@ -15,6 +15,7 @@
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #define SEMFUSE_HAVE_AVX2_KERNEL 1
 #include <immintrin.h>
+#include <cpuid.h>
 #else
 #define SEMFUSE_HAVE_AVX2_KERNEL 0
 #endif
@@ -248,7 +249,7 @@ SEMFUSE_AVX2 KernelCounts updateLeaf(const LeafPair& leaf, const FrameView& fram
             update_lanes & static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(sdf, truncation, _CMP_LT_OQ)));
         if (label_lanes != 0 && vector_evidence) {
           counts.labeled += static_cast<std::size_t>(__builtin_popcount(fuseEvidence(bits.high, label_lanes, ui, vi, frame, config)));
-        } else if (label_lanes != 0) {  // the top-3 rules: per voxel, with the sidecar
+        } else if (label_lanes != 0) {  // the top-5 rules: per voxel, with the sidecar
           alignas(32) uint32_t low[kLeafDim], high[kLeafDim];
           alignas(32) int col[kLeafDim], row[kLeafDim];
           _mm256_store_si256(reinterpret_cast<__m256i*>(low), bits.low);
@@ -278,8 +279,16 @@ SEMFUSE_AVX2 KernelCounts updateLeaf(const LeafPair& leaf, const FrameView& fram
 
 }  // namespace
 
+// CPUID leaf 1 ECX bit 29 is F16C. __builtin_cpu_supports("f16c") would say the same, but clang
+// (used for the fuzz build) does not know that feature name.
+static bool cpuHasAvx2AndF16c() {
+  unsigned eax = 0, ebx = 0, ecx = 0, edx = 0;
+  if (__get_cpuid(1, &eax, &ebx, &ecx, &edx) == 0) return false;
+  return (ecx & bit_F16C) != 0 && __builtin_cpu_supports("avx2");
+}
+
 bool avx2KernelSupported(const FrameView& frame) {
-  static const bool cpu_has_it = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("f16c");
+  static const bool cpu_has_it = cpuHasAvx2AndF16c();
   // Gather offsets are int32: element offsets into the depth image, byte offsets into the colour
   // image. The last-column colour read starts one byte early, which needs a second column.
   const auto rows = static_cast<std::size_t>(frame.height);

@@ -75,7 +75,7 @@ Result<T> required(const openvdb::MetaMap& meta, const std::string& key) {
   return value->value();
 }
 
-// FNV-1a over the label sidecar's leaf origins and values (version 2 files with a top-3 rule).
+// FNV-1a over the label sidecar's leaf origins and values (maps whose rule keeps candidates).
 uint64_t sidecarChecksum(const LabelSidecarGrid::TreeType& tree) {
   uint64_t hash = 14695981039346656037ull;
   auto mix = [&hash](uint64_t value) {
@@ -282,6 +282,11 @@ Result<LoadedMap> readMap(const fs::path& path) {
   params.background_labels = background_ids.value();
   params.integrate_color = color.value();
   if (Status rule = readLabelRule(*meta, params); !rule) return makeError(rule.error());
+  if (version.value() < 3 && usesLabelSidecar(params.label_rule))
+    return makeError("map format version " + std::to_string(version.value()) + " stores the '" +
+                     labelRuleName(params.label_rule) +
+                     "' rule's candidates as a top-3 list, which this build (version 3, top-5) cannot read; "
+                     "fuse the map again");
   auto created = LabeledVolume::create(params);
   if (!created) return makeError(created.error());
   if (frames.value() < 0) return makeError("metadata 'semfuse:frames_integrated' is negative");

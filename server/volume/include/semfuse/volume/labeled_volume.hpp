@@ -1,6 +1,6 @@
 #pragma once
 // LabeledVolume: the sparse labeled TSDF. Owns the packed geometry+label grid, the optional
-// colour grid and the optional label sidecar grid of the top-3 label rules (label_rules.hpp; both
+// colour grid and the optional label sidecar grid of the top-5 label rules (label_rules.hpp; both
 // with the geometry's topology), and knows the voxel <-> world mapping. Voxel (i,j,k) has its centre
 // at world (i,j,k) * voxel_size, OpenVDB's cell-centred linear transform.
 //

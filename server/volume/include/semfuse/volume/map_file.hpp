@@ -4,7 +4,7 @@
 //   weight FloatGrid, score FloatGrid (both saved as half floats, their exact in-memory precision)
 //   label  Int32Grid
 //   color  Int32Grid 0x00RRGGBB (only when the volume has colour)
-//   label_candidates  Int64Grid, the runners-up of a top-3 label rule (only for those rules)
+//   label_candidates  Int64Grid, the runners-up of a top-5 label rule (only for those rules)
 // all with the same topology, plus file metadata: format version, voxel size, truncation and the
 // other VolumeParams (the label rule since version 2), the label legend, frames integrated,
 // checksums of the packed voxels and the sidecar, and the caller's extra key/value strings.
@@ -25,8 +25,11 @@
 
 namespace semfuse::volume {
 
-// 2: label rule metadata and the label sidecar grid; version 1 files load as the evidence rule.
-inline constexpr int kMapFormatVersion = 2;
+// 1: evidence rule only. 2: label rule metadata and the label sidecar grid holding the top-3
+// candidates of the majority and bayes rules. 3: the sidecar holds the top-5 (10-bit label, 6-bit
+// score each). Files of versions 1 and 2 load when their rule is the evidence rule; a version 2
+// majority or bayes map is refused, since its sidecar packs candidates another way.
+inline constexpr int kMapFormatVersion = 3;
 
 using MapExtraMetadata = std::map<std::string, std::string>;
 

@@ -24,7 +24,7 @@ struct VolumeParams {
   // 16 also keeps the half-float score's resolution (1/128 near the clamp) below typical increments.
   float max_label_score = 16.0f;
 
-  // How labels are fused (label_rules.hpp). evidence is the paper's rule; the top-3 rules cost a
+  // How labels are fused (label_rules.hpp). evidence is the paper's rule; the top-5 rules cost a
   // sidecar grid of 8 more bytes per voxel. max_label_score is every rule's W_clamp (in
   // full-confidence observations for majority and bayes).
   LabelRule label_rule = LabelRule::kEvidence;
