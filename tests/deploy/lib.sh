@@ -21,6 +21,8 @@ fail() {
   for log in "$work"/logs/*.log; do
     [[ -f "$log" ]] && { echo "--- tail of $log" >&2; tail -5 "$log" >&2; }
   done
+  # Again last: CI keeps only the end of a long output.
+  printf '%s: FAILED: %s\n' "$test_name" "$*" >&2
   exit 1
 }
 skip() { printf '%s: SKIPPED: %s\n' "$test_name" "$*"; exit 77; }

@@ -40,8 +40,10 @@ launch server "$server_exe" "${dds[@]}" --legend "$legend" --voxel-size 0.02 --t
 server_pid=$last_pid
 wait_for 20 status_to "$work/s.json" || fail "server did not start"
 # Two segmenters that take frames as fast as they can (a busy one skips to the newest frame).
+segmenter_pids=()
 for k in 1 2; do
   launch "segmenter-$k" "$segmenter_exe" "${dds[@]}" "${segmenter[@]}" --every 4 --segmenter-id "load-seg-$k"
+  segmenter_pids+=("$last_pid")
 done
 sleep 1
 camera_pids=()
@@ -74,6 +76,10 @@ for i in "${!camera_pids[@]}"; do
   sent[${cameras[$i]}]=$(sed -n 's/.*sent \([0-9]*\) frames.*all acknowledged.*/\1/p' "$work/logs/${cameras[$i]}.log")
   [[ -n "${sent[${cameras[$i]}]}" ]] || fail "camera ${cameras[$i]} did not report its frames"
 done
+# Segmenters stop too: one still inferring would publish after the final status below, and the
+# segmentation counts of that status must add up.
+for pid in "${segmenter_pids[@]}"; do kill -INT "$pid"; done
+for pid in "${segmenter_pids[@]}"; do wait "$pid" || fail "a segmenter failed (exit $?)"; done
 kill -0 "$server_pid" || fail "the server died under load"
 drained() { status_to "$work/final.json" && [[ $(json "$work/final.json" 'd["queued_frames"] == 0 and d["pending_segmentations"] == 0') == true ]]; }
 wait_for 30 drained || fail "the server did not drain its queues"
