@@ -25,6 +25,7 @@ struct VolumeBenchOptions {
   std::size_t baseline_frames = 100;
   std::string kernel;            // "scalar" or "avx2"; empty: the default (widest available)
   bool compare_kernels = false;  // only the interleaved scalar-vs-avx2 comparison
+  std::string label_rule = "evidence";  // the paper's rule; the server's default is bayes
 };
 
 // A deterministic stand-in for a segmentation, at full depth resolution (the costliest case):
@@ -196,6 +197,13 @@ int runVolumeBench(const VolumeBenchOptions& options) {
   volume::VolumeParams params;
   params.voxel_size = options.voxel;
   params.truncation = options.truncation;
+  auto rule = volume::parseLabelRule(options.label_rule);
+  if (!rule) {
+    std::fprintf(stderr, "semfuse-bench volume: --label-rule: %s\n", rule.error().c_str());
+    return 2;
+  }
+  params.label_rule = rule.value();
+  params.label_classes = 13;  // labelsFromDepthBands: 12 labels + unlabeled
   if (Status valid = params.validate(); !valid) {
     std::fprintf(stderr, "semfuse-bench volume: %s\n", valid.error().c_str());
     return 2;
@@ -210,11 +218,11 @@ int runVolumeBench(const VolumeBenchOptions& options) {
   }
   const PinholeIntrinsics& k = reader.value().intrinsics();
   std::printf("semfuse-bench volume: %zu frames of %s (%dx%d), voxel %.3f m, truncation %.3f m, %d threads, "
-              "%s kernel, load average %.2f at start\n",
+              "%s kernel, %s label rule, load average %.2f at start\n",
               frames, options.data.c_str(), k.width, k.height, params.voxel_size, params.truncation,
               static_cast<int>(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism)),
               options.compare_kernels ? "scalar vs avx2" : volume::integrationKernelName(volume::integrationKernel()),
-              loadAverage());
+              volume::labelRuleName(params.label_rule), loadAverage());
   if (options.compare_kernels) return compareKernels(reader.value(), params, frames);
 
   // The labeled pass first, alone, so that peak RSS is one map (plus one frame in flight).
@@ -283,6 +291,8 @@ const bool registered = registerBench(
       command.add_option("--baseline-frames", options->baseline_frames,
                          "frames for the single-thread baseline")->capture_default_str();
       command.add_option("--kernel", options->kernel, "integration kernel: scalar or avx2 (default: widest available)");
+      command.add_option("--label-rule", options->label_rule, "label fusion: evidence (the paper's), majority or bayes")
+          ->capture_default_str();
       command.add_flag("--compare-kernels", options->compare_kernels,
                        "only time the scalar and avx2 kernels interleaved and check that their maps are identical");
       return [options] { return runVolumeBench(*options); };
