@@ -30,7 +30,75 @@ void clipToBounds(const openvdb::Coord& origin, const openvdb::CoordBBox& bounds
       if (!bounds.isInside(origin.offsetBy(x, bit >> 3, bit & 7))) cells.surface[x] &= ~(uint64_t{1} << bit);
 }
 
+// Components of the outside corners joined by outside-outside cell edges, then each crossed edge
+// labelled with the component of its outside end.
+CellTopology buildTopology(uint8_t inside_corners) {
+  const auto outside = static_cast<uint8_t>(~inside_corners);
+  auto isOutside = [&](int k) { return ((outside >> k) & 1) != 0; };
+  int parent[8];
+  for (int k = 0; k < 8; ++k) parent[k] = k;
+  auto root = [&](int k) {
+    while (parent[k] != k) k = parent[k];
+    return k;
+  };
+  for (int k = 0; k < 8; ++k)
+    for (int axis = 0; axis < 3; ++axis) {
+      const int other = k | (1 << axis);
+      if (other != k && isOutside(k) && isOutside(other)) parent[root(other)] = root(k);
+    }
+  CellTopology topology{};
+  int group_of_root[8] = {-1, -1, -1, -1, -1, -1, -1, -1};
+  for (int k = 0; k < 8; ++k)
+    for (int axis = 0; axis < 3; ++axis) {
+      const int other = k | (1 << axis);
+      topology.group[k][axis] = -1;
+      if (other == k || isOutside(k) == isOutside(other)) continue;
+      int& group = group_of_root[root(isOutside(k) ? k : other)];
+      if (group < 0) group = topology.groups++;
+      topology.group[k][axis] = static_cast<int8_t>(group);
+    }
+  return topology;
+}
+
+// Marks the cells with more than one piece of surface and counts their extra vertices.
+void findSplitCells(LeafCells& cells) {
+  const std::array<CellTopology, 256>& topologies = cellTopologies();
+  uint32_t extra = 0;
+  for (int x = 0; x < kLeafDim; ++x)
+    for (uint64_t word = cells.surface[x]; word != 0; word &= word - 1) {
+      const int bit = __builtin_ctzll(word);
+      const uint8_t groups = topologies[cells.insideCorners(x, bit >> 3, bit & 7)].groups;
+      if (groups < 2) continue;
+      cells.split[x] |= uint64_t{1} << bit;
+      cells.split_cells.push_back({static_cast<uint16_t>((x << 6) | bit), extra});
+      extra += groups - 1u;
+    }
+  cells.vertex_count += extra;
+}
+
 }  // namespace
+
+const std::array<CellTopology, 256>& cellTopologies() {
+  static const std::array<CellTopology, 256> table = [] {
+    std::array<CellTopology, 256> t{};
+    for (int mask = 0; mask < 256; ++mask) t[mask] = buildTopology(static_cast<uint8_t>(mask));
+    return t;
+  }();
+  return table;
+}
+
+uint32_t LeafCells::extraVertex(int x, int y, int z, int group) const {
+  const auto id = static_cast<uint16_t>((x << 6) | (y << 3) | z);
+  uint32_t first_extra = 0;
+  for (const SplitCell& s : split_cells)
+    if (s.cell == id) first_extra = s.first_extra;
+  return first_vertex + single_count + first_extra + static_cast<uint32_t>(group - 1);
+}
+
+uint32_t LeafCells::splitEdgeVertex(int x, int y, int z, int k, int axis) const {
+  const int group = cellTopology(insideCorners(x, y, z)).group[k][axis];
+  return group == 0 ? vertex(x, y, z) : extraVertex(x, y, z, group);
+}
 
 LeafTable::LeafTable(const GeometryTree& tree) {
   leaves_.reserve(tree.leafCount());
@@ -111,6 +179,8 @@ LeafCells classifyCells(const LeafTable& leaves, std::size_t i, const std::optio
     cells.vertices_before_word[x] = cells.vertex_count;
     cells.vertex_count += static_cast<uint32_t>(__builtin_popcountll(cells.surface[x]));
   }
+  cells.single_count = cells.vertex_count;
+  findSplitCells(cells);
   return cells;
 }
 

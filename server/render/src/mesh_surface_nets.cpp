@@ -37,15 +37,23 @@ CellCorners gatherCorners(const VoxelBlock& block, int x, int y, int z) {
   return corners;
 }
 
-// The mean of the points where the zero level crosses the cell's 12 edges, in the cell's own
-// coordinates ([0, 1]^3), each crossing interpolated linearly along its edge.
-Eigen::Vector3f meanCrossing(const CellCorners& c) {
+uint8_t insideCorners(const CellCorners& c) {
+  uint8_t mask = 0;
+  for (int k = 0; k < 8; ++k) mask |= static_cast<uint8_t>(c.inside[k] << k);
+  return mask;
+}
+
+// The mean of the points where the zero level crosses the cell's edges, in the cell's own
+// coordinates ([0, 1]^3), each crossing interpolated linearly along its edge: all crossings, or
+// with a topology only those of piece `group` (the few split cells; the others skip the lookups).
+Eigen::Vector3f meanCrossing(const CellCorners& c, const CellTopology* topology = nullptr, int group = 0) {
   Eigen::Vector3f sum = Eigen::Vector3f::Zero();
   int crossings = 0;
   for (int k = 0; k < 8; ++k)
     for (int axis = 0; axis < 3; ++axis) {
       const int step = 1 << axis;
       if ((k & step) != 0 || c.inside[k] == c.inside[k | step]) continue;
+      if (topology != nullptr && topology->group[k][axis] != group) continue;
       float t = c.tsdf[k] / (c.tsdf[k] - c.tsdf[k | step]);
       if (!(t >= 0.0f && t <= 1.0f)) t = 0.5f;  // NaN or inf in a loaded map: keep the vertex in the cell
       Eigen::Vector3f point(static_cast<float>(k & 1), static_cast<float>((k >> 1) & 1),
@@ -54,7 +62,7 @@ Eigen::Vector3f meanCrossing(const CellCorners& c) {
       sum += point;
       ++crossings;
     }
-  return sum / static_cast<float>(crossings);  // >= 1: the cell has corners on both sides
+  return sum / static_cast<float>(crossings);  // >= 1: every piece crosses an edge
 }
 
 // Unit gradient of the trilinear interpolant of the corners at p (cell coordinates): the normal,
@@ -71,6 +79,22 @@ Eigen::Vector3f normalAt(const CellCorners& c, const Eigen::Vector3f& p) {
   return norm > 0.0f ? Eigen::Vector3f(gradient / norm) : Eigen::Vector3f::Zero();
 }
 
+// Writes vertex `index` at p in the cell, with the normal there and label, score and colour of
+// the nearest corner.
+void placeVertex(const CellCorners& corners, const openvdb::Coord& cell, const Eigen::Vector3f& p, float voxel_size,
+                 volume::ColorGrid::ConstAccessor* colors, uint32_t index, LabeledMesh& mesh) {
+  mesh.vertices[index] = (Eigen::Vector3f(static_cast<float>(cell.x()), static_cast<float>(cell.y()),
+                                          static_cast<float>(cell.z())) + p) * voxel_size;
+  mesh.normals[index] = normalAt(corners, p);
+  // The nearest voxel is the nearest corner: the one on the same side of 0.5 on every axis.
+  const int nearest = (p.x() >= 0.5f ? 1 : 0) | (p.y() >= 0.5f ? 2 : 0) | (p.z() >= 0.5f ? 4 : 0);
+  mesh.labels[index] = volume::unpackLabel(corners.packed[nearest]);
+  mesh.scores[index] = volume::unpackScore(corners.packed[nearest]);
+  if (colors)
+    mesh.colors[index] =
+        volume::unpackColor(colors->getValue(cell.offsetBy(nearest & 1, (nearest >> 1) & 1, (nearest >> 2) & 1)));
+}
+
 // Writes position, normal, label, score and colour of every vertex of leaf i, at the indices
 // LeafCells::vertex gives.
 void placeVertices(const volume::LabeledVolume& volume, const LeafTable& leaves, std::size_t i,
@@ -84,18 +108,15 @@ void placeVertices(const volume::LabeledVolume& volume, const LeafTable& leaves,
       const int bit = __builtin_ctzll(word);
       const int y = bit >> 3, z = bit & 7;
       const CellCorners corners = gatherCorners(block, x, y, z);
-      const Eigen::Vector3f p = meanCrossing(corners);
       const openvdb::Coord cell = origin.offsetBy(x, y, z);
-      mesh.vertices[index] = (Eigen::Vector3f(static_cast<float>(cell.x()), static_cast<float>(cell.y()),
-                                              static_cast<float>(cell.z())) + p) * voxel_size;
-      mesh.normals[index] = normalAt(corners, p);
-      // The nearest voxel is the nearest corner: the one on the same side of 0.5 on every axis.
-      const int nearest = (p.x() >= 0.5f ? 1 : 0) | (p.y() >= 0.5f ? 2 : 0) | (p.z() >= 0.5f ? 4 : 0);
-      mesh.labels[index] = volume::unpackLabel(corners.packed[nearest]);
-      mesh.scores[index] = volume::unpackScore(corners.packed[nearest]);
-      if (colors)
-        mesh.colors[index] = volume::unpackColor(
-            colors->getValue(cell.offsetBy(nearest & 1, (nearest >> 1) & 1, (nearest >> 2) & 1)));
+      if (!cells.isSplit(x, y, z)) {
+        placeVertex(corners, cell, meanCrossing(corners), voxel_size, colors, index, mesh);
+        continue;
+      }
+      const CellTopology& topology = cellTopology(insideCorners(corners));
+      for (int group = 0; group < topology.groups; ++group)
+        placeVertex(corners, cell, meanCrossing(corners, &topology, group), voxel_size, colors,
+                    group == 0 ? index : cells.extraVertex(x, y, z, group), mesh);
     }
 }
 
@@ -111,11 +132,12 @@ class LowerCells {
           around_[a][b][c] = n == LeafTable::kNone ? nullptr : &cells[n];
         }
   }
-  // Mesh index of the vertex of cell (x, y, z), -1 <= x, y, z <= 7 in the leaf's coordinates.
-  bool vertex(int x, int y, int z, uint32_t& index) const {
+  // Mesh index of the vertex of cell (x, y, z), -1 <= x, y, z <= 7 in the leaf's coordinates,
+  // whose piece crosses the edge from the cell's corner k towards +axis.
+  [[gnu::always_inline]] bool vertex(int x, int y, int z, int k, int axis, uint32_t& index) const {
     const LeafCells* owner = around_[x < 0][y < 0][z < 0];
     if (owner == nullptr || !owner->isSurface(x & 7, y & 7, z & 7)) return false;
-    index = owner->vertex(x & 7, y & 7, z & 7);
+    index = owner->edgeVertex(x & 7, y & 7, z & 7, k, axis);
     return true;
   }
 
@@ -128,8 +150,10 @@ class LowerCells {
 // (tsdf > 0) side. The edge from voxel v along an axis is surrounded by the cells whose lowest
 // corners are v, v - u, v - w and v - u - w, u and w the other two axes: cell v is the one the
 // loop is at, so every such edge is visited exactly once, from a cell that carries a vertex.
+// Inlined into both passes, so that the counting pass drops the vertex index lookups.
 template <typename Emit>
-void forEachQuad(const LeafTable& leaves, const std::vector<LeafCells>& all_cells, std::size_t i, Emit&& emit) {
+[[gnu::always_inline]] inline void forEachQuad(const LeafTable& leaves, const std::vector<LeafCells>& all_cells,
+                                               std::size_t i, Emit&& emit) {
   const LeafCells& cells = all_cells[i];
   const LowerCells lower(leaves, all_cells, i);
   uint32_t self = cells.first_vertex;
@@ -140,18 +164,24 @@ void forEachQuad(const LeafTable& leaves, const std::vector<LeafCells>& all_cell
       const bool inside = cells.isInside(x, y, z);
       // Listed (a, b, self, d) so that they turn counter-clockwise around +axis: seen from the
       // + end of the edge. That end is the free side when v is inside; otherwise reverse.
-      auto quad = [&](bool crossed, int ax, int ay, int az, int bx, int by, int bz, int dx, int dy, int dz) {
+      // The edge starts at the corner of cell (cx, cy, cz) that lies at (x, y, z).
+      auto corner = [&](int cx, int cy, int cz) { return (x - cx) | ((y - cy) << 1) | ((z - cz) << 2); };
+      auto quad = [&](int axis, bool crossed, int ax, int ay, int az, int bx, int by, int bz, int dx, int dy,
+                      int dz) {
         uint32_t a, b, d;
-        if (!crossed || !lower.vertex(ax, ay, az, a) || !lower.vertex(bx, by, bz, b) || !lower.vertex(dx, dy, dz, d))
+        if (!crossed || !lower.vertex(ax, ay, az, corner(ax, ay, az), axis, a) ||
+            !lower.vertex(bx, by, bz, corner(bx, by, bz), axis, b) ||
+            !lower.vertex(dx, dy, dz, corner(dx, dy, dz), axis, d))
           return;
+        const uint32_t c = cells.isSplit(x, y, z) ? cells.splitEdgeVertex(x, y, z, 0, axis) : self;
         if (inside)
-          emit(a, b, self, d);
+          emit(a, b, c, d);
         else
-          emit(a, d, self, b);
+          emit(a, d, c, b);
       };
-      quad(cells.isInside(x + 1, y, z) != inside, x, y - 1, z - 1, x, y, z - 1, x, y - 1, z);
-      quad(cells.isInside(x, y + 1, z) != inside, x - 1, y, z - 1, x - 1, y, z, x, y, z - 1);
-      quad(cells.isInside(x, y, z + 1) != inside, x - 1, y - 1, z, x, y - 1, z, x - 1, y, z);
+      quad(0, cells.isInside(x + 1, y, z) != inside, x, y - 1, z - 1, x, y, z - 1, x, y - 1, z);
+      quad(1, cells.isInside(x, y + 1, z) != inside, x - 1, y, z - 1, x - 1, y, z, x, y, z - 1);
+      quad(2, cells.isInside(x, y, z + 1) != inside, x - 1, y - 1, z, x, y - 1, z, x - 1, y, z);
     }
 }
 

@@ -1,7 +1,8 @@
 #pragma once
 // Surface nets on the labeled TSDF, over the leaves the zero level crosses, parallel over leaves.
-// Each crossed cell whose 8 corners were observed (mesh_cells.hpp) gets one vertex, the mean of
-// the points where the zero level crosses its edges; each crossed voxel edge whose four
+// Each crossed cell whose 8 corners were observed (mesh_cells.hpp) gets one vertex per piece of
+// surface in it (one, but for cells with faces whose signs alternate), the mean of the points
+// where that piece crosses the cell's edges; each crossed voxel edge whose four
 // surrounding cells all have a vertex gets a quad, split into two triangles. This is the
 // structure OpenVDB's VolumeToMesh builds at adaptivity 0, without its FloatGrid copy of the
 // volume, its mask erosion and its tree-wide passes; the vertex attributes come from the corners
