@@ -19,6 +19,19 @@ per_frame=$(value per_frame_error)
 volumetric=$(value volumetric_error)
 integrated=$(value frames_integrated)
 echo "check_demo: frames integrated $integrated, per-frame error $per_frame, volumetric error $volumetric"
-[[ "$integrated" == 30 ]] || { echo "check_demo: expected 30 integrated frames" >&2; exit 1; }
+# Every frame is integrated or counted as dropped with its reason (a busy host can overflow the
+# server's per-camera queue of 4 frames); more than 2 of 30 dropped is a regression. status.json
+# is the server's status when the demo stopped waiting for the segmenter (frames may still queue).
+python3 - "$out/status.json" "$integrated" <<'PY' || exit 1
+import json, sys
+status = json.load(open(sys.argv[1]))
+dropped = sum(entry["count"] for entry in status["dropped"])
+accounted = status["frames_integrated"] + dropped + status["frames_lost"] + status["queued_frames"]
+print(f"check_demo: received {status['frames_received']}, dropped {dropped} {status['dropped']}")
+if status["frames_received"] != 30 or accounted != 30:
+    sys.exit("check_demo: frames are missing from the server's accounting")
+if int(sys.argv[2]) < 28:
+    sys.exit("check_demo: fewer than 28 of 30 frames integrated")
+PY
 awk -v p="$per_frame" -v v="$volumetric" 'BEGIN { exit !(p > 0.25 && v < 0.9 * p) }' ||
   { echo "check_demo: fused labels are not clearly better than the per-frame labels" >&2; exit 1; }
