@@ -1,6 +1,6 @@
-// Meshes of a fused sphere and plane against the analytic surface, for the OpenVDB VolumeToMesh
-// mesher (the default) and the opt-in surface nets; the two against each other; and surface nets on a
-// hand-written volume whose mesh is known exactly.
+// Meshes of a fused sphere and plane against the analytic surface, for surface nets (the
+// default) and the OpenVDB VolumeToMesh mesher; the two against each other; and surface nets on
+// hand-written volumes whose meshes are known.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -190,6 +190,13 @@ TEST_F(MeshMethodsTest, SurfaceNetsMatchTheVolumeToMeshReference) {
   EXPECT_GT(close, 0.96 * nets.vertices.size());  // 96.9% here (84% when inside corners are split instead)
   EXPECT_GT(same_label, 0.99 * close);
   EXPECT_GT(same_normal, 0.99 * close);
+}
+
+TEST_F(MeshMethodsTest, DefaultIsSurfaceNets) {
+  const LabeledMesh by_default = extractMesh(*volume_).value();
+  const LabeledMesh nets = extractMesh(*volume_, withMethod(MeshMethod::kSurfaceNets)).value();
+  EXPECT_EQ(by_default.vertices, nets.vertices);
+  EXPECT_EQ(by_default.triangles, nets.triangles);
 }
 
 // A horizontal plane written voxel by voxel across leaf borders: the mesh is known exactly.
