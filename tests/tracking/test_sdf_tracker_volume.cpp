@@ -15,13 +15,7 @@ namespace {
 
 // 2 cm voxels, 10 cm band: the band sets the basin of convergence (a 10 degree rotation moves the
 // far wall ~0.4 m, a 4 cm band would not reach); the voxel size keeps the fixture fast.
-volume::VolumeParams mapParams() {
-  volume::VolumeParams params;
-  params.voxel_size = 0.02;
-  params.truncation = 0.10;
-  params.integrate_color = false;
-  return params;
-}
+volume::VolumeParams mapParams() { return geometryMapParams(0.02, 0.10); }
 
 class VolumeTracking : public ::testing::Test {
  protected:

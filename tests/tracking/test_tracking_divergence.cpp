@@ -16,13 +16,7 @@ namespace semfuse::tracking::testing {
 namespace {
 
 // The benchmark's map: 1 cm voxels, 5 cm truncation.
-volume::VolumeParams benchMapParams() {
-  volume::VolumeParams params;
-  params.voxel_size = 0.01;
-  params.truncation = 0.05;
-  params.integrate_color = false;
-  return params;
-}
+volume::VolumeParams benchMapParams() { return geometryMapParams(0.01, 0.05); }
 
 TEST(TrackingDivergence, JumpsBeyondTheBasinAreLostNotAccepted) {
   synthetic::SequenceConfig config;

@@ -11,8 +11,19 @@
 #include "semfuse/synthetic/trajectory.hpp"
 #include "semfuse/synthetic/view_renderer.hpp"
 #include "semfuse/tracking/se3.hpp"
+#include "semfuse/volume/volume_params.hpp"
 
 namespace semfuse::tracking::testing {
+
+// A geometry-only map (no colour) for tracking against: the truncation band sets the basin of
+// convergence, the voxel size the fixture's speed.
+inline volume::VolumeParams geometryMapParams(double voxel_size, double truncation) {
+  volume::VolumeParams params;
+  params.voxel_size = voxel_size;
+  params.truncation = truncation;
+  params.integrate_color = false;
+  return params;
+}
 
 inline PinholeIntrinsics kinectIntrinsics() { return {640, 480, 585.0, 585.0, 320.0, 240.0}; }
 
