@@ -2,6 +2,7 @@
 
 #include <atomic>
 #include <condition_variable>
+#include <deque>
 #include <mutex>
 #include <optional>
 #include <thread>
@@ -65,7 +66,8 @@ struct Segmenter::Impl {
     }
   }
 
-  // Worker thread: decode, segment, (delay), publish the newest frame, one at a time.
+  // Worker thread: decode, segment and publish (or hand to the publisher, with a delay) the
+  // newest frame, one at a time.
   void work() {
     for (;;) {
       std::optional<dds::Sample<FrameMsg>> next;
@@ -99,10 +101,37 @@ struct Segmenter::Impl {
       stats.last_segment_ms = ms;
     }
     spdlog::debug("segmented frame {} of {} in {:.1f} ms", segmentation.frame_seq, segmentation.camera_id, ms);
-    if (options.delay.count() > 0) std::this_thread::sleep_for(options.delay);
     auto encoded = wire::encodeSegmentation(segmentation);
     if (!encoded) return fail(encoded.error());
-    if (Status s = segmentations.write(encoded.value().msg()); !s) return fail(s.error());
+    if (options.delay.count() == 0) return publish(encoded.value());
+    std::lock_guard lock(mutex);
+    held.push_back({std::chrono::steady_clock::now() + options.delay, std::move(encoded).value()});
+    held_changed.notify_one();
+  }
+
+  // Publisher thread, only with a delay: writes each held result when it is due. The worker
+  // meanwhile segments the next frame, so a late model is not also a slower one. Results
+  // still held at stop() are published when due before the thread ends.
+  void publishHeld() {
+    std::unique_lock lock(mutex);
+    for (;;) {
+      held_changed.wait(lock, [&] { return !held.empty() || worker_done; });
+      if (held.empty()) return;
+      const auto due = held.front().due;
+      if (std::chrono::steady_clock::now() < due) {
+        held_changed.wait_until(lock, due);
+        continue;
+      }
+      Held next = std::move(held.front());
+      held.pop_front();
+      lock.unlock();
+      publish(next.encoded);
+      lock.lock();
+    }
+  }
+
+  void publish(const wire::EncodedSegmentation& encoded) {
+    if (Status s = segmentations.write(encoded.msg()); !s) return fail(s.error());
     std::lock_guard lock(mutex);
     ++stats.published;
   }
@@ -126,10 +155,19 @@ struct Segmenter::Impl {
   mutable std::mutex mutex;
   std::condition_variable slot_changed;
   std::optional<dds::Sample<FrameMsg>> slot;
+  // Results held back by options.delay. One delay for all, so the oldest is always due first.
+  struct Held {
+    std::chrono::steady_clock::time_point due;
+    wire::EncodedSegmentation encoded;
+  };
+  std::deque<Held> held;
+  std::condition_variable held_changed;
+  bool worker_done = false;
   SegmenterStats stats;
   std::atomic<bool> stopping{false};
   std::thread receiver;
   std::thread worker;
+  std::thread publisher;
 };
 
 Segmenter::Segmenter(const dds::Participant& participant, SegmentFunction function, SegmenterOptions options)
@@ -142,6 +180,7 @@ Segmenter::~Segmenter() { stop(); }
 void Segmenter::start() {
   if (impl_->receiver.joinable()) return;
   impl_->stopping = false;
+  impl_->worker_done = false;
   impl_->receiver = std::thread([this] {
     setCurrentThreadName("sf-seg-receive");
     impl_->receive();
@@ -150,6 +189,12 @@ void Segmenter::start() {
     setCurrentThreadName("sf-seg-work");
     impl_->work();
   });
+  if (impl_->options.delay.count() > 0) {
+    impl_->publisher = std::thread([this] {
+      setCurrentThreadName("sf-seg-publish");
+      impl_->publishHeld();
+    });
+  }
 }
 
 void Segmenter::stop() {
@@ -161,6 +206,12 @@ void Segmenter::stop() {
   impl_->slot_changed.notify_all();
   if (impl_->receiver.joinable()) impl_->receiver.join();
   if (impl_->worker.joinable()) impl_->worker.join();
+  {
+    std::lock_guard lock(impl_->mutex);
+    impl_->worker_done = true;
+  }
+  impl_->held_changed.notify_all();
+  if (impl_->publisher.joinable()) impl_->publisher.join();
 }
 
 SegmenterStats Segmenter::stats() const {

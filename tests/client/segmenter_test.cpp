@@ -136,6 +136,48 @@ TEST_F(SegmenterTest, ASlowFunctionSkipsToTheNewestFrame) {
   EXPECT_EQ(stats.segmented, 2u);
 }
 
+// A delay holds each result, not the worker: the next frame is segmented while the first result
+// waits, results go out in order no earlier than the delay, and stop() publishes what is held.
+TEST_F(SegmenterTest, ADelayedResultDoesNotHoldTheWorker) {
+  constexpr auto kDelay = std::chrono::milliseconds(1500);
+  dds::Topic<SegmentationMsg> topic(participant_, dds::topics::kSegmentations);
+  dds::Reader<SegmentationMsg> results(topic, dds::qos::segmentations());
+  Segmenter segmenter(participant_, [](const Frame& f) -> Result<Segmentation> {
+    Segmentation s;
+    s.labels = cv::Mat(f.depth.size(), CV_16UC1, cv::Scalar(4));
+    return s;
+  }, {"late", "", 1, kDelay});
+  segmenter.start();
+  CameraPublisher camera(participant_, {DepthEncoding::kRaw16, ColorEncoding::kNone, 90});
+  ASSERT_TRUE(camera.waitForReader(std::chrono::seconds(15)));
+
+  const auto first_sent = std::chrono::steady_clock::now();
+  ASSERT_TRUE(camera.publish(flatFrame(0, 1.0F)).ok());
+  ASSERT_TRUE(eventually([&] { return segmenter.stats().segmented == 1; }));
+  const auto first_segmented = std::chrono::steady_clock::now();
+  ASSERT_TRUE(camera.publish(flatFrame(1, 1.0F)).ok());
+  ASSERT_TRUE(eventually([&] { return segmenter.stats().segmented == 2; }));
+  // A worker that slept through the delay would have published frame 0 before taking frame 1.
+  // (Both frames were segmented within the delay unless the machine stalled for 1.5 s.)
+  const bool within_delay = std::chrono::steady_clock::now() - first_segmented < kDelay;
+  if (within_delay) EXPECT_EQ(segmenter.stats().published, 0u);
+
+  std::vector<uint64_t> seqs;
+  ASSERT_TRUE(eventually([&] {
+    while (auto sample = results.take()) seqs.push_back((*sample)->frame_seq);
+    return !seqs.empty();
+  }));
+  EXPECT_GE(std::chrono::steady_clock::now() - first_sent, kDelay);
+  segmenter.stop();  // frame 1's result is still held, or just out: stop() publishes it
+  ASSERT_TRUE(eventually([&] {
+    while (auto sample = results.take()) seqs.push_back((*sample)->frame_seq);
+    return seqs.size() >= 2;
+  }));
+  EXPECT_EQ(seqs, (std::vector<uint64_t>{0, 1}));
+  EXPECT_EQ(segmenter.stats().published, 2u);
+  EXPECT_EQ(segmenter.stats().skipped, 0u);
+}
+
 TEST_F(SegmenterTest, EveryNthFrameIsSelected) {
   std::mutex mutex;
   std::vector<uint64_t> segmented;

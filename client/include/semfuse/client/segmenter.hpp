@@ -31,7 +31,9 @@ struct SegmenterOptions {
   std::string segmenter_id = "semfuse-segmenter";
   std::string camera_id;            // only frames of this camera; empty = every camera
   int every = 1;                    // segment every Nth received frame (emulates a slow model)
-  std::chrono::milliseconds delay{0};  // hold each result this long before publishing (a late model)
+  // Hold each result this long before publishing (a late model); the worker goes on with the
+  // next frame meanwhile.
+  std::chrono::milliseconds delay{0};
 };
 
 struct SegmenterStats {
