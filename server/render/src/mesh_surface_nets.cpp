@@ -37,12 +37,6 @@ CellCorners gatherCorners(const VoxelBlock& block, int x, int y, int z) {
   return corners;
 }
 
-uint8_t insideCorners(const CellCorners& c) {
-  uint8_t mask = 0;
-  for (int k = 0; k < 8; ++k) mask |= static_cast<uint8_t>(c.inside[k] << k);
-  return mask;
-}
-
 // The mean of the points where the zero level crosses the cell's edges, in the cell's own
 // coordinates ([0, 1]^3), each crossing interpolated linearly along its edge: all crossings, or
 // with a topology only those of piece `group` (the few split cells; the others skip the lookups).
@@ -113,7 +107,7 @@ void placeVertices(const volume::LabeledVolume& volume, const LeafTable& leaves,
         placeVertex(corners, cell, meanCrossing(corners), voxel_size, colors, index, mesh);
         continue;
       }
-      const CellTopology& topology = cellTopology(insideCorners(corners));
+      const CellTopology& topology = cellTopology(cells.insideCorners(x, y, z));
       for (int group = 0; group < topology.groups; ++group)
         placeVertex(corners, cell, meanCrossing(corners, &topology, group), voxel_size, colors,
                     group == 0 ? index : cells.extraVertex(x, y, z, group), mesh);
