@@ -244,30 +244,28 @@ TEST_F(DamagedMapFile, OtherSealVersionsAreRefusedByName) {
       << loadError(future);
 }
 
+// A sealed map re-sealed with another format version written into its metadata. OpenVDB file
+// metadata: name, type name ("int32") and value size, each length-prefixed, then the value.
+std::size_t formatVersionOffset(const std::string& sealed) {
+  const std::string key = "semfuse:format_version";
+  return sealed.find(key) + key.size() + 4 + 5 + 4;
+}
+std::string withFormatVersion(const std::string& sealed, int version) {
+  const std::size_t payload = sealed.size() - 32;
+  std::string edited = sealed;
+  putLittleEndianAt(edited, formatVersionOffset(sealed), static_cast<uint64_t>(version), 4);
+  putLittleEndianAt(edited, payload + 24, crc64xz(edited.substr(0, payload)));
+  return edited;
+}
+
 TEST_F(DamagedMapFile, AResealedMapWithAnotherFormatVersionIsRefusedByTheMetadataCheck) {
-  // OpenVDB file metadata: name, type name ("int32") and value size, each length-prefixed.
   const std::string key = "semfuse:format_version";
   const std::size_t name_at = bytes_.find(key);
   ASSERT_NE(name_at, std::string::npos);
-  const std::size_t value_at = name_at + key.size() + 4 + 5 + 4;
   ASSERT_EQ(bytes_.substr(name_at + key.size() + 4, 5), "int32");
-  ASSERT_EQ(littleEndianAt(bytes_, value_at) & 0xFFFFFFFFu, static_cast<uint64_t>(kMapFormatVersion));
-  std::string edited = bytes_;
-  putLittleEndianAt(edited, value_at, 99, 4);
-  putLittleEndianAt(edited, payloadSize() + 24, crc64xz(edited.substr(0, payloadSize())));
-  const std::string error = loadError(edited);
+  ASSERT_EQ(littleEndianAt(bytes_, formatVersionOffset(bytes_)) & 0xFFFFFFFFu, static_cast<uint64_t>(kMapFormatVersion));
+  const std::string error = loadError(withFormatVersion(bytes_, 99));
   EXPECT_NE(error.find("map format version 99 is not supported"), std::string::npos) << error;
-}
-
-// The fixture's map re-sealed with another format version written into its metadata.
-std::string withFormatVersion(const std::string& sealed, int version) {
-  const std::string key = "semfuse:format_version";
-  const std::size_t value_at = sealed.find(key) + key.size() + 4 + 5 + 4;
-  const std::size_t payload = sealed.size() - 32;
-  std::string edited = sealed;
-  putLittleEndianAt(edited, value_at, static_cast<uint64_t>(version), 4);
-  putLittleEndianAt(edited, payload + 24, crc64xz(edited.substr(0, payload)));
-  return edited;
 }
 
 TEST_F(DamagedMapFile, VersionTwoLoadsWithTheEvidenceRuleAndIsRefusedWithATopFiveRule) {
