@@ -53,9 +53,11 @@ TEST(Voxel, HalfConversionsMatchOpenVdbHalfExactly) {
     const float got = detail::halfValue(h);
     if (std::isnan(expected)) {
       ASSERT_TRUE(std::isnan(got)) << "half bits " << h;
+      ASSERT_TRUE(std::isnan(detail::halfValueBranchless(h))) << "half bits " << h;
       continue;
     }
     ASSERT_EQ(detail::floatBits(got), detail::floatBits(expected)) << "half bits " << h;
+    ASSERT_EQ(detail::floatBits(detail::halfValueBranchless(h)), detail::floatBits(expected)) << "half bits " << h;
     ASSERT_EQ(detail::halfBits(got), h) << "half bits " << h;  // every half round-trips
   }
   // Floats: every 1021st bit pattern (all exponents, mixed mantissas) plus the rounding ties.

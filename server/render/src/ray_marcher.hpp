@@ -1,13 +1,12 @@
 #pragma once
-// One ray through the TSDF: the march and zero-crossing search behind raycast(). Internal.
+// The plain march behind raycast()'s reference path (RaycastOptions::skip_empty_space = false).
+// Internal.
 //
 // Everything happens in index space (voxel (i,j,k) centred at (i,j,k)): the ray is transformed
-// once, samples read the packed voxels straight from leaf buffers through one cached accessor,
-// and the tree's sparsity is used at every level a ray can skip:
-//   - no leaf at the sample: jump to the exit of the missing leaf / internal node (its tile);
-//   - a leaf, but the 8^3, 4^3, 2^3 or 1 voxel block around the sample was never observed
-//     (inactive in the leaf's value mask): jump to that block's exit;
-//   - observed and in front of the surface: sphere-trace by the TSDF value.
+// once and samples read the packed voxels straight from leaf buffers through one cached
+// accessor. In front of the surface the ray is sphere-traced by the TSDF value, elsewhere it
+// steps half a voxel; it skips nothing, which is what makes it the reference that the fast path
+// (cell_marcher.hpp) is tested and benchmarked against.
 #include <limits>
 
 #include <Eigen/Core>
@@ -28,9 +27,7 @@ struct MarchRay {
 // Marches rays. Owns a tree accessor, so one per thread; cheap to construct.
 class RayMarcher {
  public:
-  // skip_empty_space false: no tree-based skipping at all, half-voxel steps wherever the TSDF is
-  // unknown (the reference the skipping is checked and benchmarked against).
-  RayMarcher(const volume::LabeledVolume& volume, bool skip_empty_space);
+  explicit RayMarcher(const volume::LabeledVolume& volume);
 
   // Depth t of the first positive-to-negative crossing of the trilinear TSDF in [t_min, t_max);
   // false when none.
@@ -67,7 +64,6 @@ class RayMarcher {
 
   Accessor accessor_;
   double inv_voxel_size_;
-  bool skip_empty_space_;
 };
 
 }  // namespace semfuse::render::detail

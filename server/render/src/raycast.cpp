@@ -11,6 +11,8 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "cell_marcher.hpp"
+#include "crossing_cells.hpp"
 #include "ray_marcher.hpp"
 #include "surface_depth_bounds.hpp"
 #include "semfuse/volume/volume_sampler.hpp"
@@ -18,8 +20,10 @@
 namespace semfuse::render {
 namespace {
 
+using detail::CellMarcher;
 using detail::MarchRay;
 using detail::RayMarcher;
+using detail::SurfaceHit;
 
 Status validate(const volume::LabeledVolume& volume, const PinholeIntrinsics& k, const Pose& camera_to_world,
                 const RaycastOptions& options) {
@@ -118,6 +122,39 @@ void shadePixel(volume::VolumeSampler& sampler, const MarchRay& ray, double t, R
   }
 }
 
+// The same layers from the corners of the cell the fast path found the surface in: the
+// trilinear gradient at the hit and the corner nearest to it, with no further voxel reads (the
+// colour layer, kept in another grid, still goes through the sampler).
+void shadeHit(volume::VolumeSampler& sampler, const MarchRay& ray, const SurfaceHit& hit, RenderLayers layers,
+              RaycastImages& images, int u, int v) {
+  if (layers & kDepthLayer) images.depth.at<float>(v, u) = static_cast<float>(hit.t);
+  const float fx = hit.fraction[0], fy = hit.fraction[1], fz = hit.fraction[2];
+  if (layers & kNormalLayer) {
+    const float* c = hit.tsdf;
+    const float dx00 = c[1] - c[0], dx10 = c[3] - c[2], dx01 = c[5] - c[4], dx11 = c[7] - c[6];
+    const float a00 = c[0] + dx00 * fx, a10 = c[2] + dx10 * fx;
+    const float a01 = c[4] + dx01 * fx, a11 = c[6] + dx11 * fx;
+    const float b0 = a00 + (a10 - a00) * fy, b1 = a01 + (a11 - a01) * fy;
+    const Eigen::Vector3f gradient((1 - fz) * (dx00 + (dx10 - dx00) * fy) + fz * (dx01 + (dx11 - dx01) * fy),
+                                   (1 - fz) * (a10 - a00) + fz * (a11 - a01), b1 - b0);
+    if (gradient.squaredNorm() > 0.0f) {
+      const Eigen::Vector3f n = gradient.normalized();
+      images.normals.at<cv::Vec3f>(v, u) = cv::Vec3f(n.x(), n.y(), n.z());
+    }
+  }
+  if (layers & (kLabelLayer | kScoreLayer)) {
+    const int nearest = (fx >= 0.5f ? 1 : 0) | (fy >= 0.5f ? 2 : 0) | (fz >= 0.5f ? 4 : 0);
+    const volume::PackedVoxel voxel = hit.corners[nearest];
+    if (layers & kLabelLayer) images.labels.at<uint16_t>(v, u) = volume::unpackLabel(voxel);
+    if (layers & kScoreLayer) images.scores.at<float>(v, u) = volume::unpackScore(voxel);
+  }
+  if (layers & kColorLayer) {
+    const Eigen::Vector3f point = (ray.origin + hit.t * ray.direction).cast<float>();
+    volume::Rgb8 rgb;
+    if (sampler.nearestColor(point, rgb)) images.color.at<cv::Vec3b>(v, u) = cv::Vec3b(rgb.r, rgb.g, rgb.b);
+  }
+}
+
 }  // namespace
 
 Result<RaycastImages> raycast(const volume::LabeledVolume& volume, const PinholeIntrinsics& k,
@@ -132,44 +169,52 @@ Result<RaycastImages> raycast(const volume::LabeledVolume& volume, const Pinhole
 
   const Eigen::Matrix3d rotation = camera_to_world.linear();
   const Eigen::Vector3d origin = camera_to_world.translation();
-  auto marchRow = [&](int v, RayMarcher& marcher, volume::VolumeSampler& sampler, const detail::BandBounds* band) {
-    clearRow(images, v);
-    for (int u = 0; u < k.width; ++u) {
-      MarchRay ray{origin, rotation * Eigen::Vector3d((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0), options.min_depth,
-                   options.max_depth};
-      if (band) {
-        double near, far;
-        if (!band->depthRange(u, v, near, far)) continue;
-        ray.t_min = std::max(ray.t_min, near);
-        ray.t_max = std::min(ray.t_max, far);
-      }
-      double t;
-      if (clipToBox(bounds, ray) && marcher.findSurface(ray, t))
-        shadePixel(sampler, ray, t, options.layers, images, u, v);
-    }
+  auto rayThrough = [&](int u, int v) {
+    return MarchRay{origin, rotation * Eigen::Vector3d((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0), options.min_depth,
+                    options.max_depth};
   };
   if (!options.skip_empty_space) {
     // The baseline clips each ray to the allocated box and marches all of it.
     tbb::parallel_for(tbb::blocked_range<int>(0, k.height, 4), [&](const tbb::blocked_range<int>& rows) {
-      RayMarcher marcher(volume, false);
+      RayMarcher marcher(volume);
       volume::VolumeSampler sampler(volume);
-      for (int v = rows.begin(); v < rows.end(); ++v) marchRow(v, marcher, sampler, nullptr);
+      for (int v = rows.begin(); v < rows.end(); ++v) {
+        clearRow(images, v);
+        for (int u = 0; u < k.width; ++u) {
+          MarchRay ray = rayThrough(u, v);
+          double t;
+          if (clipToBox(bounds, ray) && marcher.findSurface(ray, t))
+            shadePixel(sampler, ray, t, options.layers, images, u, v);
+        }
+      }
     });
     return images;
   }
-  // Each ray marches only between the nearest and farthest block with a surface voxel over its
-  // pixel. Bands of rows in small tasks: rays through empty space cost far less than rays through
-  // the band, so fine-grained tasks balance the two cores.
-  const detail::SurfaceDepthBounds surface_bounds(volume, k, camera_to_world, options.min_depth, options.max_depth);
+  // Each ray walks the cells between the nearest and farthest block of crossing cells over its
+  // pixel, reading voxels only in crossing cells. Bands of rows in small tasks: rays over empty
+  // pixels cost nothing, so fine-grained tasks balance the two cores.
+  const detail::CrossingCells cells(volume, k, camera_to_world, options.min_depth, options.max_depth);
+  const detail::SurfaceDepthBounds surface_bounds(cells, volume.voxelSize(), k, camera_to_world, options.min_depth,
+                                                  options.max_depth);
   tbb::parallel_for(tbb::blocked_range<int>(0, surface_bounds.bandCount(), 1), [&](const tbb::blocked_range<int>& bands) {
-    RayMarcher marcher(volume, true);
+    CellMarcher marcher(cells, volume.voxelSize());
     volume::VolumeSampler sampler(volume);
     detail::BandBounds band_bounds;
+    SurfaceHit hit;
     for (int band = bands.begin(); band < bands.end(); ++band) {
       surface_bounds.rasterizeBand(band, band_bounds);
       const int v_end = std::min(k.height, (band + 1) * detail::SurfaceDepthBounds::kBandRows);
-      for (int v = band * detail::SurfaceDepthBounds::kBandRows; v < v_end; ++v)
-        marchRow(v, marcher, sampler, &band_bounds);
+      for (int v = band * detail::SurfaceDepthBounds::kBandRows; v < v_end; ++v) {
+        clearRow(images, v);
+        for (int u = 0; u < k.width; ++u) {
+          double near, far;
+          if (!band_bounds.depthRange(u, v, near, far)) continue;
+          MarchRay ray = rayThrough(u, v);
+          ray.t_min = std::max(ray.t_min, near);
+          ray.t_max = std::min(ray.t_max, far);
+          if (marcher.findSurface(ray, hit)) shadeHit(sampler, ray, hit, options.layers, images, u, v);
+        }
+      }
     }
   });
   return images;

@@ -1,17 +1,14 @@
 #pragma once
 // Per-pixel camera-depth bounds of where a surface can be, for raycast(). Internal.
 //
-// A ray reports a surface where the trilinear TSDF turns from positive to non-positive, and a
-// non-positive trilinear value needs a non-positive observed corner. So only 4^3 voxel blocks
-// that hold an observed voxel with TSDF <= 0 ("surface blocks") can hold the end of a crossing,
-// and every sample that reads such a voxel lies in the block's index box widened by one voxel on
-// its low side, [origin - 1, origin + 4]^3. Each surface block's box is projected into the image
-// and every pixel centre its projection covers keeps the smallest and largest camera depth of
-// the boxes over it. A ray then starts a voxel in front of the nearest surface box on its pixel
-// and stops behind the farthest: the free space in front of the surface, and the purely positive
-// (free-space side) blocks of the truncation band there, need no marching at all. Blocks rather
-// than whole 8^3 leaves: a box spans up to sqrt(3) x its edge of camera depth, and that is how far
-// in front of its surface a ray may start.
+// A ray can only report the surface inside a crossing cell (CrossingCells). Each 4^3 block of
+// cells of a leaf that holds crossing cells is reduced to the tight box of those cells, the box is
+// projected into the image, and every pixel centre its projection covers keeps the smallest and
+// largest camera depth of the boxes over it. A ray then starts where the nearest box over its
+// pixel begins and stops where the farthest ends: the free space in front of the surface needs
+// no marching at all. Tight boxes rather than whole blocks: a block seen obliquely spans several
+// voxels of depth in front of the surface it holds (a floor on the lowest voxel layer of a block
+// would otherwise start its rays up to 4 voxels above it, 12 along a ray at 20 degrees).
 //
 // Conservative by construction (the projection of a box in front of the camera lies inside the
 // rectangle of its projected corners); a box that reaches behind the camera plane opens every
@@ -20,6 +17,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "crossing_cells.hpp"
 #include "semfuse/core/types.hpp"
 #include "semfuse/volume/labeled_volume.hpp"
 
@@ -52,24 +50,25 @@ class SurfaceDepthBounds {
  public:
   static constexpr int kBandRows = 8;
 
-  // Projects `volume`'s surface blocks seen by `camera_to_world` with intrinsics `k`, limited to
-  // [min_depth, max_depth]; parallel (TBB) over blocks.
-  SurfaceDepthBounds(const volume::LabeledVolume& volume, const PinholeIntrinsics& k, const Pose& camera_to_world,
-                     double min_depth, double max_depth);
+  // Projects the blocks of crossing cells of `cells` (voxel size `voxel`) seen by
+  // `camera_to_world` with intrinsics `k`, limited to [min_depth, max_depth]; parallel (TBB).
+  SurfaceDepthBounds(const CrossingCells& cells, double voxel, const PinholeIntrinsics& k,
+                     const Pose& camera_to_world, double min_depth, double max_depth);
 
   // Bands of kBandRows rows (the last may be shorter) cover the image.
   int bandCount() const { return (height_ + kBandRows - 1) / kBandRows; }
   // Fills `out` with the bounds of every pixel of rows [band * kBandRows, ... + kBandRows).
   void rasterizeBand(int band, BandBounds& out) const;
 
-  // How many 4^3 blocks hold a surface voxel (for tests and benchmarks).
+  // How many 4^3 blocks hold a crossing cell (for tests and benchmarks).
   std::size_t surfaceBlocks() const { return surface_blocks_; }
 
- private:
   struct Rect {  // inclusive pixel-centre rectangle of one projected box, with its depth interval
     int u0, u1, v0, v1;
     float near, far;
   };
+
+ private:
   int width_ = 0;
   int height_ = 0;
   std::vector<Rect> footprints_;        // grouped by band: a rectangle is listed once per band it touches

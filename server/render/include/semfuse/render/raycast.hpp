@@ -1,8 +1,9 @@
 #pragma once
-// Raycasting a labeled volume from any pinhole camera: per pixel, march the ray through the
-// TSDF, find the first positive-to-negative zero crossing of the trilinear interpolant, and read
-// the layers there. Empty space is skipped with the VDB tree (a ray jumps over whole internal
-// nodes and tiles that hold no leaf), rows run in parallel with TBB.
+// Raycasting a labeled volume from any pinhole camera: per pixel, find the first
+// positive-to-non-positive zero crossing of the trilinear TSDF along the ray and read the layers
+// there. A ray starts at the nearest block of surface cells projected onto its pixel and walks
+// voxel cells, reading voxels only in cells whose corners change sign; bands of rows run in
+// parallel with TBB. server/render/README.md has the details and the figures.
 #include <cstdint>
 
 #include <opencv2/core/mat.hpp>
@@ -28,8 +29,9 @@ struct RaycastOptions {
   RenderLayers layers = kDepthLayer | kNormalLayer | kLabelLayer;
   double min_depth = 0.1;  // metres along the camera z axis
   double max_depth = 8.0;
-  // Off: march voxel by voxel through unallocated space (a baseline for benchmarks and a
-  // cross-check in tests; the images are the same).
+  // Off: march every ray from min_depth (clipped to the allocated box) by samples, sphere-traced
+  // in front of the surface, skipping nothing: the reference for benchmarks and tests (the images
+  // agree to a hair; that march can miss a crossing that grazes a cell between two samples).
   bool skip_empty_space = true;
 };
 

@@ -1,0 +1,256 @@
+#include "cell_marcher.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace semfuse::render::detail {
+namespace {
+
+using LeafCells = CrossingCells::LeafCells;
+constexpr int kLeafDim = CrossingCells::kLeafDim;
+constexpr int kLeafMask = kLeafDim - 1;
+constexpr int kRefineIterations = 3;
+constexpr int kMaxCubeDim = 8;  // a leaf
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// Offsets of the 8 cell corners inside one leaf buffer, corner = dx + 2 dy + 4 dz (z fastest).
+constexpr int kCornerOffsets[8] = {0, 64, 8, 72, 1, 65, 9, 73};
+
+int floorInt(double x) {
+  const int i = static_cast<int>(x);
+  return i - (x < i);
+}
+
+// Trilinear interpolation of the corner values at (fx, fy, fz) inside the cell.
+float trilinear(const float v[8], double fx, double fy, double fz) {
+  const auto x = static_cast<float>(fx), y = static_cast<float>(fy), z = static_cast<float>(fz);
+  const float a00 = v[0] + (v[1] - v[0]) * x, a10 = v[2] + (v[3] - v[2]) * x;
+  const float a01 = v[4] + (v[5] - v[4]) * x, a11 = v[6] + (v[7] - v[6]) * x;
+  const float b0 = a00 + (a10 - a00) * y, b1 = a01 + (a11 - a01) * y;
+  return b0 + (b1 - b0) * z;
+}
+
+// The DDA's state between steps: the current cell, the ray parameter at which the ray leaves it
+// along each axis, and the spacing of successive cell faces along each axis.
+struct CellWalk {
+  int cell[3];
+  int step[3];
+  double t_next[3];
+  double t_delta[3];
+
+  int exitAxis() const {
+    return t_next[0] < t_next[1] ? (t_next[0] < t_next[2] ? 0 : 2) : (t_next[1] < t_next[2] ? 1 : 2);
+  }
+  // Moves to the first cell past the aligned cube of edge `dim` cells that holds the current one;
+  // returns the ray parameter where it enters that cell. Counting the faces crossed per axis
+  // (instead of locating the exit point with floor()) keeps cell and t_next consistent.
+  double leaveCube(int dim) {
+    int to_face[3];
+    double t_face[3];
+    for (int a = 0; a < 3; ++a) {
+      const int within = cell[a] & (dim - 1);
+      to_face[a] = step[a] > 0 ? dim - 1 - within : within;
+      t_face[a] = t_next[a] + to_face[a] * t_delta[a];  // infinite where the ray does not move on a
+    }
+    const int exit = t_face[0] < t_face[1] ? (t_face[0] < t_face[2] ? 0 : 2) : (t_face[1] < t_face[2] ? 1 : 2);
+    const double t_exit = t_face[exit];
+    for (int a = 0; a < 3; ++a) {
+      if (a == exit) continue;
+      // Faces t_next + j t_delta, j < to_face, at or before the exit (a fixed-length count:
+      // the number varies from ray to ray, and a loop that stops at it mispredicts).
+      int crossed = 0;
+      for (int j = 0; j < kMaxCubeDim - 1; ++j)
+        crossed += static_cast<int>(j < to_face[a]) & static_cast<int>(t_next[a] + j * t_delta[a] <= t_exit);
+      cell[a] += crossed * step[a];
+      t_next[a] += crossed * t_delta[a];
+    }
+    cell[exit] += (to_face[exit] + 1) * step[exit];
+    t_next[exit] += (to_face[exit] + 1) * t_delta[exit];
+    return t_exit;
+  }
+};
+
+// The trilinear interpolant of a cell's corners along a segment inside the cell, as a cubic
+// g(s) = a0 + a1 s + a2 s^2 + a3 s^3 for s in [0, 1], from the segment's start (cell-local) and
+// its extent.
+struct SegmentCubic {
+  double a0, a1, a2, a3;
+};
+SegmentCubic segmentCubic(const float v[8], const double start[3], const double extent[3]) {
+  // f = c0 + c1 x + c2 y + c3 z + c4 xy + c5 xz + c6 yz + c7 xyz (corner k = dx + 2 dy + 4 dz).
+  const double c0 = v[0], c1 = v[1] - v[0], c2 = v[2] - v[0], c3 = v[4] - v[0];
+  const double c4 = v[3] - v[2] - v[1] + v[0], c5 = v[5] - v[4] - v[1] + v[0], c6 = v[6] - v[4] - v[2] + v[0];
+  const double c7 = v[7] - v[6] - v[5] + v[4] - v[3] + v[2] + v[1] - v[0];
+  const double x = start[0], y = start[1], z = start[2], ax = extent[0], ay = extent[1], az = extent[2];
+  SegmentCubic g;
+  g.a0 = c0 + c1 * x + c2 * y + c3 * z + c4 * x * y + c5 * x * z + c6 * y * z + c7 * x * y * z;
+  g.a1 = c1 * ax + c2 * ay + c3 * az + c4 * (x * ay + y * ax) + c5 * (x * az + z * ax) + c6 * (y * az + z * ay) +
+         c7 * (x * y * az + x * z * ay + y * z * ax);
+  g.a2 = c4 * ax * ay + c5 * ax * az + c6 * ay * az + c7 * (x * ay * az + y * ax * az + z * ax * ay);
+  g.a3 = c7 * ax * ay * az;
+  return g;
+}
+
+// Where g, positive at both ends of [0, 1], has an interior minimum that is not positive: a ray
+// that enters and leaves a cell on the positive side can still cut through the surface in between
+// (grazing a thin or curved piece of it). -1 when g stays positive, which a bound on g'' settles
+// for almost every cell without solving for the minimum.
+double lowestInteriorPoint(const SegmentCubic& g, float g_start, float g_end) {
+  // |g''| <= 2 |a2| + 6 |a3| on [0, 1], and g >= min(g(0), g(1)) - max|g''| / 8 there.
+  if (std::min(g_start, g_end) > 0.25 * std::abs(g.a2) + 0.75 * std::abs(g.a3)) return -1.0;
+  auto value = [&](double x) { return g.a0 + x * (g.a1 + x * (g.a2 + x * g.a3)); };
+  // Stationary points: roots of g'(s) = a1 + 2 a2 s + 3 a3 s^2.
+  double roots[2];
+  int count = 0;
+  constexpr double kFlat = 1e-12;
+  if (std::abs(g.a3) > kFlat) {
+    const double discriminant = g.a2 * g.a2 - 3.0 * g.a1 * g.a3;
+    if (discriminant >= 0.0) {
+      const double r = std::sqrt(discriminant);
+      roots[count++] = (-g.a2 - r) / (3.0 * g.a3);
+      roots[count++] = (-g.a2 + r) / (3.0 * g.a3);
+    }
+  } else if (std::abs(g.a2) > kFlat) {
+    roots[count++] = -g.a1 / (2.0 * g.a2);
+  }
+  double lowest = -1.0, lowest_value = 0.0;
+  for (int i = 0; i < count; ++i)
+    if (roots[i] > 0.0 && roots[i] < 1.0 && value(roots[i]) <= lowest_value) {
+      lowest = roots[i];
+      lowest_value = value(roots[i]);
+    }
+  return lowest;
+}
+
+}  // namespace
+
+const CellMarcher::CachedCell& CellMarcher::cornersOf(const LeafCells& leaf, const int cell[3],
+                                                      const openvdb::Coord& local) {
+  CachedCell& entry = cache_[(cell[0] + 3 * cell[1] + 5 * cell[2]) & (kCacheSize - 1)];
+  if (entry.cell[0] != cell[0] || entry.cell[1] != cell[1] || entry.cell[2] != cell[2]) {
+    gatherCorners(leaf, local, entry.corners);
+    volume::unpackTsdfs(entry.corners, entry.tsdf, 8);
+    for (int a = 0; a < 3; ++a) entry.cell[a] = cell[a];
+  }
+  return entry;
+}
+
+void CellMarcher::gatherCorners(const LeafCells& leaf, const openvdb::Coord& local, volume::PackedVoxel corners[8]) {
+  if (local.x() < kLeafMask && local.y() < kLeafMask && local.z() < kLeafMask) {
+    const volume::PackedVoxel* base = leaf.voxels + CrossingCells::Leaf::coordToOffset(local);
+    for (int i = 0; i < 8; ++i) corners[i] = base[kCornerOffsets[i]];
+    return;
+  }
+  // A cell on an upper face: its corners lie in up to 8 leaves (this one and its upper neighbours).
+  for (int i = 0; i < 8; ++i) {
+    const int x = local.x() + (i & 1), y = local.y() + ((i >> 1) & 1), z = local.z() + (i >> 2);
+    const volume::PackedVoxel* voxels = leaf.upper[(x >> 3) | ((y >> 3) << 1) | ((z >> 3) << 2)];
+    corners[i] = voxels ? voxels[((x & kLeafMask) << 6) | ((y & kLeafMask) << 3) | (z & kLeafMask)]
+                        : volume::kUnobservedVoxel;
+  }
+}
+
+bool CellMarcher::findSurface(const MarchRay& ray, SurfaceHit& hit) {
+  if (!(ray.t_min < ray.t_max)) return false;
+  const Eigen::Vector3d o = ray.origin * inv_voxel_size_;
+  const Eigen::Vector3d d = ray.direction * inv_voxel_size_;
+
+  double t = ray.t_min;
+  const Eigen::Vector3d start = o + t * d;
+  CellWalk walk{{floorInt(start.x()), floorInt(start.y()), floorInt(start.z())}, {}, {}, {}};
+  for (int a = 0; a < 3; ++a) {
+    if (d[a] > 0.0) {
+      walk.step[a] = 1;
+      walk.t_delta[a] = 1.0 / d[a];
+      walk.t_next[a] = (walk.cell[a] + 1 - o[a]) * walk.t_delta[a];
+    } else if (d[a] < 0.0) {
+      walk.step[a] = -1;
+      walk.t_delta[a] = -1.0 / d[a];
+      walk.t_next[a] = (o[a] - walk.cell[a]) * walk.t_delta[a];
+    } else {
+      walk.step[a] = 0;
+      walk.t_delta[a] = kInf;
+      walk.t_next[a] = kInf;
+    }
+  }
+  int* const cell = walk.cell;
+  openvdb::Coord leaf_origin(cell[0] & ~kLeafMask, cell[1] & ~kLeafMask, cell[2] & ~kLeafMask);
+  const LeafCells* leaf = cells_->find(leaf_origin);
+
+  for (;;) {
+    const int lx = cell[0] & kLeafMask, ly = cell[1] & kLeafMask, lz = cell[2] & kLeafMask;
+    const int empty_dim = leaf ? leaf->emptyBlockDim(lx, ly, lz) : kLeafDim;
+    if (empty_dim > 1) {
+      // No crossing cell in the block around this one: jump over all of it.
+      t = walk.leaveCube(empty_dim);
+      if (t >= ray.t_max) return false;
+    } else {
+      const int axis = walk.exitAxis();
+      const double t_exit = std::min(walk.t_next[axis], ray.t_max);
+      if (leaf->isCrossing(lx, ly, lz)) {
+        const CachedCell& corners = cornersOf(*leaf, cell, openvdb::Coord(lx, ly, lz));
+        const float* v = corners.tsdf;
+        // The ray relative to the cell's base voxel.
+        const double rx = o.x() - cell[0], ry = o.y() - cell[1], rz = o.z() - cell[2];
+        auto valueAt = [&](double at) { return trilinear(v, rx + at * d.x(), ry + at * d.y(), rz + at * d.z()); };
+        const float f_in = valueAt(t);
+        float f_out = valueAt(t_exit);
+        double t_end = t_exit;  // the end of the bracket [t, t_end] of the crossing
+        if (f_in > 0.0f && f_out > 0.0f) {
+          // Positive where the ray enters and leaves: the surface may still dip across the ray
+          // in between (the interpolant is a cubic along it).
+          const double start[3] = {rx + t * d.x(), ry + t * d.y(), rz + t * d.z()};
+          const double extent[3] = {(t_exit - t) * d.x(), (t_exit - t) * d.y(), (t_exit - t) * d.z()};
+          const double s = lowestInteriorPoint(segmentCubic(v, start, extent), f_in, f_out);
+          if (s > 0.0) {
+            t_end = t + s * (t_exit - t);
+            f_out = valueAt(t_end);
+          }
+        }
+        if (f_in > 0.0f && f_out <= 0.0f) {
+          // Regula falsi (Illinois variant: an end kept twice in a row has its value halved, so
+          // that a curved interpolant does not hold one end fixed) between the cell's entry and
+          // the bracket's end.
+          double t_pos = t, t_neg = t_end;
+          float f_pos = f_in, f_neg = f_out;
+          int replaced = 0;  // which end the previous step replaced: +1 the positive one, -1 the negative
+          auto secant = [&] { return t_pos + (t_neg - t_pos) * f_pos / static_cast<double>(f_pos - f_neg); };
+          for (int i = 0; i < kRefineIterations && f_neg < 0.0f; ++i) {
+            const double t_mid = secant();
+            const float f_mid = valueAt(t_mid);
+            if (f_mid > 0.0f) {
+              t_pos = t_mid;
+              f_pos = f_mid;
+              if (replaced > 0) f_neg *= 0.5f;
+              replaced = 1;
+            } else {
+              t_neg = t_mid;
+              f_neg = f_mid;
+              if (replaced < 0) f_pos *= 0.5f;
+              replaced = -1;
+            }
+          }
+          hit.t = f_neg < 0.0f ? secant() : t_neg;
+          std::copy(std::begin(corners.corners), std::end(corners.corners), hit.corners);
+          std::copy(std::begin(corners.tsdf), std::end(corners.tsdf), hit.tsdf);
+          hit.fraction[0] = static_cast<float>(std::clamp(rx + hit.t * d.x(), 0.0, 1.0));
+          hit.fraction[1] = static_cast<float>(std::clamp(ry + hit.t * d.y(), 0.0, 1.0));
+          hit.fraction[2] = static_cast<float>(std::clamp(rz + hit.t * d.z(), 0.0, 1.0));
+          return true;
+        }
+      }
+      if (walk.t_next[axis] >= ray.t_max) return false;
+      t = walk.t_next[axis];
+      walk.t_next[axis] += walk.t_delta[axis];
+      cell[axis] += walk.step[axis];
+    }
+    const openvdb::Coord origin(cell[0] & ~kLeafMask, cell[1] & ~kLeafMask, cell[2] & ~kLeafMask);
+    if (origin != leaf_origin) {
+      leaf_origin = origin;
+      leaf = cells_->find(leaf_origin);
+    }
+  }
+}
+
+}  // namespace semfuse::render::detail

@@ -1,0 +1,171 @@
+#include "crossing_cells.hpp"
+
+#include <algorithm>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+namespace semfuse::render::detail {
+namespace {
+
+using Leaf = CrossingCells::Leaf;
+using LeafCells = CrossingCells::LeafCells;
+constexpr int kLeafDim = CrossingCells::kLeafDim;
+constexpr int kSpan = kLeafDim + 1;  // the cells of a leaf read voxels 0..8 on each axis
+
+// A half-space through the camera centre (or parallel to the image plane) in camera coordinates:
+// n . p + offset >= 0 inside.
+struct Plane {
+  Eigen::Vector3d n;
+  double offset;
+};
+
+// The planes bounding what the rays of the image can reach: the four sides one pixel outside the
+// outermost pixel centres, and the depth range widened by a voxel.
+std::array<Plane, 6> frustumPlanes(const PinholeIntrinsics& k, double min_depth, double max_depth, double margin) {
+  return {{
+      {{k.fx, 0.0, k.cx + 1.0}, 0.0},               // u >= -1
+      {{-k.fx, 0.0, k.width - k.cx}, 0.0},          // u <= width
+      {{0.0, k.fy, k.cy + 1.0}, 0.0},               // v >= -1
+      {{0.0, -k.fy, k.height - k.cy}, 0.0},         // v <= height
+      {{0.0, 0.0, 1.0}, -(min_depth - margin)},     // z >= min_depth
+      {{0.0, 0.0, -1.0}, max_depth + margin},       // z <= max_depth
+  }};
+}
+
+// False only when all 8 corners of the leaf's cell box lie outside one plane: then no point of
+// the box, and so no ray sample in it, is inside the frustum.
+bool meetsFrustum(const openvdb::Coord& origin, double voxel, const Eigen::Matrix3d& world_to_camera,
+                  const Eigen::Vector3d& camera_origin, const std::array<Plane, 6>& planes) {
+  const Eigen::Vector3d low = world_to_camera * (Eigen::Vector3d(origin.x(), origin.y(), origin.z()) * voxel - camera_origin);
+  const double edge = kLeafDim * voxel;
+  const Eigen::Vector3d ex = world_to_camera.col(0) * edge, ey = world_to_camera.col(1) * edge,
+                        ez = world_to_camera.col(2) * edge;
+  for (const Plane& plane : planes) {
+    bool all_outside = true;
+    for (int c = 0; c < 8 && all_outside; ++c) {
+      Eigen::Vector3d p = low;
+      if (c & 1) p += ex;
+      if (c & 2) p += ey;
+      if (c & 4) p += ez;
+      all_outside = plane.n.dot(p) + plane.offset < 0.0;
+    }
+    if (all_outside) return false;
+  }
+  return true;
+}
+
+// Non-positive TSDF read from the half's bits: the sign bit, or a zero magnitude (+0 counts:
+// the ray's crossing test is f <= 0).
+bool nonPositiveBits(uint64_t bits) { return (bits & 0x8000u) != 0 || (bits & 0x7FFFu) == 0; }
+
+// The crossing cells of one leaf, from 9-bit voxel columns (bit z = voxel z, 0..8) of the leaf and
+// its +x / +y / +z neighbours: per cell, AND the observed bits of its 4 columns and 2 levels, OR
+// their non-positive and positive bits.
+std::array<uint64_t, kLeafDim> crossingMask(const LeafCells& leaf) {
+  // voxels_of[a][b][c]: the leaf a leaves along +x, b along +y, c along +z (null if unallocated).
+  auto voxels_of = [&](int a, int b, int c) { return leaf.upper[a | (b << 1) | (c << 2)]; };
+  uint16_t observed[kSpan][kSpan], non_positive[kSpan][kSpan], positive[kSpan][kSpan];
+  for (int x = 0; x < kSpan; ++x)
+    for (int y = 0; y < kSpan; ++y) {
+      // Voxels z = 0..7 of the column, then z = 8 from the +z neighbour.
+      const volume::PackedVoxel* low = voxels_of(x >> 3, y >> 3, 0);
+      const volume::PackedVoxel* high = voxels_of(x >> 3, y >> 3, 1);
+      const int column = Leaf::coordToOffset(openvdb::Coord(x & 7, y & 7, 0));
+      unsigned seen = 0, below = 0;
+      if (low)
+        for (int z = 0; z < kLeafDim; ++z) {
+          const auto bits = static_cast<uint64_t>(low[column + z]);
+          seen |= static_cast<unsigned>((bits & 0xFFFF0000u) != 0) << z;
+          below |= static_cast<unsigned>(nonPositiveBits(bits)) << z;
+        }
+      if (high) {
+        const auto bits = static_cast<uint64_t>(high[column]);
+        seen |= static_cast<unsigned>((bits & 0xFFFF0000u) != 0) << kLeafDim;
+        below |= static_cast<unsigned>(nonPositiveBits(bits)) << kLeafDim;
+      }
+      observed[x][y] = static_cast<uint16_t>(seen);
+      non_positive[x][y] = static_cast<uint16_t>(seen & below);
+      positive[x][y] = static_cast<uint16_t>(seen & ~below);
+    }
+  std::array<uint64_t, kLeafDim> mask{};
+  for (int x = 0; x < kLeafDim; ++x)
+    for (int y = 0; y < kLeafDim; ++y) {
+      const unsigned all_seen = observed[x][y] & observed[x + 1][y] & observed[x][y + 1] & observed[x + 1][y + 1];
+      const unsigned any_below =
+          non_positive[x][y] | non_positive[x + 1][y] | non_positive[x][y + 1] | non_positive[x + 1][y + 1];
+      const unsigned any_above = positive[x][y] | positive[x + 1][y] | positive[x][y + 1] | positive[x + 1][y + 1];
+      // Bit z of each: voxels z and z + 1 of the columns, the cell's two levels.
+      const unsigned cells = (all_seen & (all_seen >> 1)) & (any_below | (any_below >> 1)) &
+                             (any_above | (any_above >> 1)) & 0xFFu;
+      mask[x] |= static_cast<uint64_t>(cells) << (kLeafDim * y);
+    }
+  return mask;
+}
+
+// Fills the coarse block masks of a leaf from its cell mask.
+void summarizeBlocks(LeafCells& leaf) {
+  leaf.blocks2 = 0;
+  leaf.blocks4 = 0;
+  for (int x = 0; x < kLeafDim; ++x) {
+    const uint64_t word = leaf.crossing[x];
+    if (word == 0) continue;
+    for (int by = 0; by < 4; ++by)
+      for (int bz = 0; bz < 4; ++bz) {
+        // Cells y = 2 by, 2 by + 1 and z = 2 bz, 2 bz + 1 of slice x: bits 8 y + z.
+        if (!(word & (uint64_t{0x0303} << (16 * by + 2 * bz)))) continue;
+        leaf.blocks2 |= uint64_t{1} << (((x >> 1) << 4) | (by << 2) | bz);
+        leaf.blocks4 |= static_cast<uint8_t>(1u << (((x >> 2) << 2) | ((by >> 1) << 1) | (bz >> 1)));
+      }
+  }
+}
+
+}  // namespace
+
+CrossingCells::CrossingCells(const volume::LabeledVolume& volume, const PinholeIntrinsics& k,
+                             const Pose& camera_to_world, double min_depth, double max_depth) {
+  std::vector<const Leaf*> leaves;
+  leaves.reserve(volume.geometryGrid().tree().leafCount());
+  volume.geometryGrid().tree().getNodes(leaves);
+  leaves_.resize(leaves.size());
+  for (std::size_t i = 0; i < leaves.size(); ++i) {
+    leaves_[i].origin = leaves[i]->origin();
+    leaves_[i].voxels = leaves[i]->buffer().data();
+  }
+
+  // Open addressing with linear probing, at most half full.
+  std::size_t slots = 16;
+  while (slots < 2 * leaves_.size()) slots *= 2;
+  slot_mask_ = slots - 1;
+  hash_shift_ = 64 - __builtin_ctzll(slots);
+  keys_.assign(slots, 0);
+  slots_.assign(slots, kEmptySlot);
+  for (std::size_t i = 0; i < leaves_.size(); ++i) {
+    const uint64_t key = packOrigin(leaves_[i].origin);
+    std::size_t slot = hashSlot(key);
+    while (slots_[slot] != kEmptySlot) slot = (slot + 1) & slot_mask_;
+    keys_[slot] = key;
+    slots_[slot] = static_cast<uint32_t>(i);
+  }
+
+  const double voxel = volume.voxelSize();
+  const Eigen::Matrix3d world_to_camera = camera_to_world.linear().transpose();
+  const Eigen::Vector3d camera_origin = camera_to_world.translation();
+  const auto planes = frustumPlanes(k, min_depth, max_depth, voxel);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves_.size(), 64), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i < range.end(); ++i)
+      if (!leaves[i]->isEmpty() && meetsFrustum(leaves_[i].origin, voxel, world_to_camera, camera_origin, planes))
+      {
+        LeafCells& leaf = leaves_[i];
+        for (int n = 0; n < 8; ++n) {
+          const LeafCells* neighbour =
+              n == 0 ? &leaf : find(leaf.origin.offsetBy((n & 1) * kLeafDim, ((n >> 1) & 1) * kLeafDim, (n >> 2) * kLeafDim));
+          leaf.upper[n] = neighbour ? neighbour->voxels : nullptr;
+        }
+        leaf.crossing = crossingMask(leaf);
+        summarizeBlocks(leaf);
+      }
+  });
+}
+
+}  // namespace semfuse::render::detail

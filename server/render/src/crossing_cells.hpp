@@ -1,0 +1,99 @@
+#pragma once
+// Which voxel cells a ray can find the surface in, leaf by leaf, for raycast(). Internal.
+//
+// A ray reports the surface where the trilinear TSDF turns from positive to non-positive inside
+// one cell (the 2x2x2 voxels from a base voxel). Trilinear values are convex combinations of the
+// cell's 8 corners, so that needs all 8 corners observed, one of them > 0 and one <= 0: a
+// "crossing cell". Every other cell can be stepped over without reading a voxel. Per leaf that is
+// a 512-bit mask, built once per raycast from the voxels with bit operations, and only for the
+// leaves that meet the view frustum (no ray enters the others).
+//
+// The leaves are found by origin through an open-addressing hash table (a ray moves from leaf to
+// leaf every few cells; OpenVDB's accessor would walk the tree for each new leaf), and the same
+// table gives the voxels of the +x/+y/+z neighbours that the cells on a leaf's upper faces read.
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include <openvdb/openvdb.h>
+
+#include "semfuse/core/types.hpp"
+#include "semfuse/volume/labeled_volume.hpp"
+
+namespace semfuse::render::detail {
+
+class CrossingCells {
+ public:
+  using Leaf = volume::GeometryGrid::TreeType::LeafNodeType;
+  static constexpr int kLeafDim = Leaf::DIM;  // 8
+  static_assert(kLeafDim == 8, "the crossing masks hold one 64-bit word per x slice of an 8^3 leaf");
+
+  struct LeafCells {
+    openvdb::Coord origin;
+    const volume::PackedVoxel* voxels = nullptr;  // z fastest: offset = 64 x + 8 y + z
+    // Voxels of this leaf and of its upper neighbours, index dx + 2 dy + 4 dz (0 = this leaf): the
+    // corners of the cells on the upper faces lie there. Null where unallocated; filled for the
+    // leaves in the frustum only.
+    const volume::PackedVoxel* upper[8] = {};
+    // Word x, bit 8 y + z: cell (x, y, z) (leaf-local base voxel) is a crossing cell. All zero for
+    // leaves outside the frustum given to the constructor.
+    std::array<uint64_t, kLeafDim> crossing{};
+    // The same, coarser, so that a ray steps over empty blocks at once: bit 16 bx + 4 by + bz is
+    // the 2^3 block of cells (2 bx.., 2 by.., 2 bz..), bit 4 bx + 2 by + bz the 4^3 block.
+    uint64_t blocks2 = 0;
+    uint8_t blocks4 = 0;
+
+    bool isCrossing(int x, int y, int z) const { return (crossing[x] >> ((y << 3) | z)) & 1u; }
+    bool anyCrossing() const { return blocks2 != 0; }
+    // Edge (8, 4 or 2 cells) of the largest aligned block around local cell (x, y, z) that holds
+    // no crossing cell, or 1 when the 2^3 block around it holds one.
+    int emptyBlockDim(int x, int y, int z) const {
+      if (blocks2 == 0) return 8;
+      if (!((blocks4 >> (((x >> 2) << 2) | ((y >> 2) << 1) | (z >> 2))) & 1u)) return 4;
+      if (!((blocks2 >> (((x >> 1) << 4) | ((y >> 1) << 2) | (z >> 1))) & 1u)) return 2;
+      return 1;
+    }
+  };
+
+  // Indexes every leaf of `volume`; computes the crossing masks of the leaves that meet the
+  // frustum of a `k` camera at `camera_to_world` between min_depth and max_depth. Parallel (TBB).
+  CrossingCells(const volume::LabeledVolume& volume, const PinholeIntrinsics& k, const Pose& camera_to_world,
+                double min_depth, double max_depth);
+
+  // The leaf whose origin is `origin` (a multiple of 8 on each axis), or null where unallocated.
+  const LeafCells* find(const openvdb::Coord& origin) const {
+    const uint64_t key = packOrigin(origin);
+    for (std::size_t slot = hashSlot(key);; slot = (slot + 1) & slot_mask_) {
+      const uint32_t index = slots_[slot];
+      if (index == kEmptySlot) return nullptr;
+      if (keys_[slot] == key) return &leaves_[index];
+    }
+  }
+  // Packed voxel at index-space coordinate `ijk`; unobserved (0) where no leaf is allocated.
+  volume::PackedVoxel voxel(const openvdb::Coord& ijk) const {
+    const LeafCells* leaf = find(ijk & ~(kLeafDim - 1));
+    return leaf ? leaf->voxels[Leaf::coordToOffset(ijk)] : volume::kUnobservedVoxel;
+  }
+
+  const std::vector<LeafCells>& leaves() const { return leaves_; }
+
+ private:
+  static constexpr uint32_t kEmptySlot = UINT32_MAX;
+  // Leaf origins are multiples of 8: 21 bits per axis of origin / 8 cover +-2^23 voxels.
+  static uint64_t packOrigin(const openvdb::Coord& o) {
+    auto axis = [](int32_t v) { return static_cast<uint64_t>(static_cast<uint32_t>(v >> 3) & 0x1FFFFFu); };
+    return axis(o.x()) | (axis(o.y()) << 21) | (axis(o.z()) << 42);
+  }
+  std::size_t hashSlot(uint64_t key) const {
+    return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> hash_shift_);
+  }
+
+  std::vector<LeafCells> leaves_;
+  std::vector<uint64_t> keys_;
+  std::vector<uint32_t> slots_;  // index into leaves_, kEmptySlot where free
+  std::size_t slot_mask_ = 0;
+  int hash_shift_ = 64;
+};
+
+}  // namespace semfuse::render::detail
