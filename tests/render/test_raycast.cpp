@@ -282,6 +282,37 @@ TEST_F(RaycastTest, SaveLoadRaycastIsBitIdentical) {
   EXPECT_GT(cv::countNonZero(a.depth), 1000);
 }
 
+// The server's way: copy what the rays read under its lock, render later. The images are those
+// of a direct raycast at the time of the copy, bit for bit, whatever happens to the volume after.
+TEST_F(RaycastTest, PreparedRaycastRendersTheVolumeAsItWasWhenPrepared) {
+  const RaycastOptions all{kAllLayers};
+  const auto direct = raycast(volume_, testing::kSmallCamera, novel_, all).value();
+  auto prepared = prepareRaycast(volume_, testing::kSmallCamera, novel_, all);
+  ASSERT_TRUE(prepared.ok()) << prepared.error();
+  volume_.clear();  // the map moves on (here: is reset) before the copy is rendered
+  const auto later = raycast(std::move(prepared.value()));
+  ASSERT_TRUE(later.ok()) << later.error();
+  const RaycastImages& b = later.value();
+  for (const auto& [x, y] : {std::pair{direct.depth, b.depth}, {direct.normals, b.normals}, {direct.labels, b.labels},
+                             {direct.scores, b.scores}, {direct.color, b.color}}) {
+    ASSERT_EQ(x.size(), y.size());
+    EXPECT_EQ(0, std::memcmp(x.data, y.data, x.total() * x.elemSize()));
+  }
+  EXPECT_GT(cv::countNonZero(direct.depth), 1000);
+  EXPECT_GT(cv::countNonZero(direct.color.reshape(1)), 1000);  // the colour layer is there too
+  // A prepared raycast renders once.
+  EXPECT_FALSE(raycast(std::move(prepared.value())).ok());
+}
+
+// Bad requests fail at prepareRaycast with the same reasons as raycast.
+TEST_F(RaycastTest, PrepareRejectsWhatRaycastRejects) {
+  RaycastOptions none{0};
+  EXPECT_FALSE(prepareRaycast(volume_, testing::kSmallCamera, novel_, none).ok());
+  Pose not_rigid = novel_;
+  not_rigid.linear() *= 2.0;
+  EXPECT_FALSE(prepareRaycast(volume_, testing::kSmallCamera, not_rigid, {}).ok());
+}
+
 TEST(Raycast, EmptyVolumeGivesEmptyImages) {
   const volume::LabeledVolume empty{params()};
   const auto images = raycast(empty, testing::kSmallCamera, Pose::Identity()).value();

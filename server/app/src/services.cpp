@@ -93,7 +93,13 @@ void Services::raycast(const semfuse_srv_dds__Raycast_Request_& request, semfuse
   render::RaycastOptions options;
   options.layers = request.layers;
   if (std::isfinite(request.max_range) && request.max_range > 0.0f) options.max_depth = request.max_range;
-  auto images = render::raycast(*mapper_.snapshot(), intrinsics, pose, options);
+  // Copy the leaves in view under the map's shared lock (a few ms, where a snapshot of the whole
+  // map took tens while cameras stream), render from the copy without the lock.
+  auto prepared = mapper_.read([&](const volume::LabeledVolume& volume) {
+    return render::prepareRaycast(volume, intrinsics, pose, options);
+  });
+  if (!prepared.ok()) return refuse(reply, kInvalid, "raycast", prepared.error());
+  auto images = render::raycast(std::move(prepared.value()));
   if (!images.ok()) return refuse(reply, kInvalid, "raycast", images.error());
   const auto& im = images.value();
   fillImage(reply.depth, im.depth, "32FC1");

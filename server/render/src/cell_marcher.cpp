@@ -232,6 +232,10 @@ bool CellMarcher::findSurface(const MarchRay& ray, SurfaceHit& hit) {
             }
           }
           hit.t = f_neg < 0.0f ? secant() : t_neg;
+          hit.leaf = leaf;
+          hit.local[0] = lx;
+          hit.local[1] = ly;
+          hit.local[2] = lz;
           std::copy(std::begin(corners.corners), std::end(corners.corners), hit.corners);
           std::copy(std::begin(corners.tsdf), std::end(corners.tsdf), hit.tsdf);
           hit.fraction[0] = static_cast<float>(std::clamp(rx + hit.t * d.x(), 0.0, 1.0));

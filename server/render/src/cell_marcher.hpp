@@ -25,6 +25,8 @@ struct SurfaceHit {
   volume::PackedVoxel corners[8] = {};
   float tsdf[8] = {};
   float fraction[3] = {};  // hit point minus the cell's base voxel, each in [0, 1]
+  const CrossingCells::LeafCells* leaf = nullptr;  // the leaf of the cell's base voxel
+  int local[3] = {};                               // the base voxel in that leaf
 };
 
 // Marches rays; keeps the corners of the cells it read last, so one per thread.

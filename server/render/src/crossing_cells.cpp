@@ -123,7 +123,7 @@ void summarizeBlocks(LeafCells& leaf) {
 }  // namespace
 
 CrossingCells::CrossingCells(const volume::LabeledVolume& volume, const PinholeIntrinsics& k,
-                             const Pose& camera_to_world, double min_depth, double max_depth) {
+                             const Pose& camera_to_world, double min_depth, double max_depth, Options options) {
   std::vector<const Leaf*> leaves;
   leaves.reserve(volume.geometryGrid().tree().leafCount());
   volume.geometryGrid().tree().getNodes(leaves);
@@ -154,17 +154,73 @@ CrossingCells::CrossingCells(const volume::LabeledVolume& volume, const PinholeI
   const auto planes = frustumPlanes(k, min_depth, max_depth, voxel);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves_.size(), 64), [&](const auto& range) {
     for (std::size_t i = range.begin(); i < range.end(); ++i)
-      if (!leaves[i]->isEmpty() && meetsFrustum(leaves_[i].origin, voxel, world_to_camera, camera_origin, planes))
-      {
-        LeafCells& leaf = leaves_[i];
-        for (int n = 0; n < 8; ++n) {
-          const LeafCells* neighbour =
-              n == 0 ? &leaf : find(leaf.origin.offsetBy((n & 1) * kLeafDim, ((n >> 1) & 1) * kLeafDim, (n >> 2) * kLeafDim));
-          leaf.upper[n] = neighbour ? neighbour->voxels : nullptr;
+      leaves_[i].in_view = !leaves[i]->isEmpty() &&
+                           meetsFrustum(leaves_[i].origin, voxel, world_to_camera, camera_origin, planes);
+  });
+  // The leaves rays can read: those in view and their upper neighbours (cells on a leaf's upper
+  // faces read those).
+  std::vector<uint32_t> needed;
+  std::vector<uint8_t> is_needed(leaves_.size(), 0);
+  for (std::size_t i = 0; i < leaves_.size(); ++i) {
+    if (!leaves_[i].in_view) continue;
+    for (int n = 0; n < 8; ++n) {
+      const LeafCells* neighbour = find(leaves_[i].origin.offsetBy((n & 1) * kLeafDim, ((n >> 1) & 1) * kLeafDim,
+                                                                   (n >> 2) * kLeafDim));
+      if (!neighbour) continue;
+      const auto j = static_cast<uint32_t>(neighbour - leaves_.data());
+      if (!is_needed[j]) needed.push_back(j);
+      is_needed[j] = 1;
+    }
+  }
+  std::vector<const volume::ColorGrid::TreeType::LeafNodeType*> color_leaves;
+  if (options.with_color && volume.colorGrid()) {
+    color_leaves.assign(leaves_.size(), nullptr);
+    const auto& color_tree = volume.colorGrid()->tree();
+    for (uint32_t j : needed) color_leaves[j] = color_tree.probeConstLeaf(leaves_[j].origin);
+  }
+  if (options.copy_voxels) {
+    // Copies of just those leaves, so that the rays can run after the volume has changed.
+    voxel_copies_.resize(needed.size() * Leaf::SIZE);
+    if (!color_leaves.empty()) color_copies_.assign(needed.size() * Leaf::SIZE, 0);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, needed.size(), 64), [&](const auto& range) {
+      for (std::size_t c = range.begin(); c < range.end(); ++c) {
+        LeafCells& leaf = leaves_[needed[c]];
+        volume::PackedVoxel* copy = voxel_copies_.data() + c * Leaf::SIZE;
+        std::copy(leaf.voxels, leaf.voxels + Leaf::SIZE, copy);
+        leaf.voxels = copy;
+        if (const auto* color = color_leaves.empty() ? nullptr : color_leaves[needed[c]]) {
+          volume::PackedColor* color_copy = color_copies_.data() + c * Leaf::SIZE;
+          std::copy(color->buffer().data(), color->buffer().data() + Leaf::SIZE, color_copy);
+          leaf.colors = color_copy;
         }
-        leaf.crossing = crossingMask(leaf);
-        summarizeBlocks(leaf);
       }
+    });
+    for (std::size_t i = 0; i < leaves_.size(); ++i)
+      if (!is_needed[i]) leaves_[i].voxels = nullptr;  // never read; the copy does not outlive the volume's leaves
+  } else if (!color_leaves.empty()) {
+    for (uint32_t j : needed)
+      if (color_leaves[j]) leaves_[j].colors = color_leaves[j]->buffer().data();
+  }
+  for (std::size_t i = 0; i < leaves_.size(); ++i) {
+    LeafCells& leaf = leaves_[i];
+    if (!leaf.in_view) continue;
+    for (int n = 0; n < 8; ++n) {
+      const LeafCells* neighbour =
+          n == 0 ? &leaf : find(leaf.origin.offsetBy((n & 1) * kLeafDim, ((n >> 1) & 1) * kLeafDim, (n >> 2) * kLeafDim));
+      leaf.upper[n] = neighbour ? neighbour->voxels : nullptr;
+      leaf.upper_colors[n] = neighbour ? neighbour->colors : nullptr;
+    }
+  }
+}
+
+void CrossingCells::findCrossings() {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves_.size(), 64), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i < range.end(); ++i) {
+      LeafCells& leaf = leaves_[i];
+      if (!leaf.in_view) continue;
+      leaf.crossing = crossingMask(leaf);
+      summarizeBlocks(leaf);
+    }
   });
 }
 

@@ -32,12 +32,15 @@ class CrossingCells {
   struct LeafCells {
     openvdb::Coord origin;
     const volume::PackedVoxel* voxels = nullptr;  // z fastest: offset = 64 x + 8 y + z
-    // Voxels of this leaf and of its upper neighbours, index dx + 2 dy + 4 dz (0 = this leaf): the
-    // corners of the cells on the upper faces lie there. Null where unallocated; filled for the
-    // leaves in the frustum only.
+    const volume::PackedColor* colors = nullptr;  // same layout; only when colour was asked for
+    bool in_view = false;                           // meets the frustum
+    // Voxels (and colours) of this leaf and of its upper neighbours, index dx + 2 dy + 4 dz (0 =
+    // this leaf): the corners of the cells on the upper faces lie there. Null where unallocated;
+    // filled for the leaves in view only.
     const volume::PackedVoxel* upper[8] = {};
-    // Word x, bit 8 y + z: cell (x, y, z) (leaf-local base voxel) is a crossing cell. All zero for
-    // leaves outside the frustum given to the constructor.
+    const volume::PackedColor* upper_colors[8] = {};
+    // Word x, bit 8 y + z: cell (x, y, z) (leaf-local base voxel) is a crossing cell. All zero
+    // until findCrossings(), and for leaves outside the frustum given to the constructor.
     std::array<uint64_t, kLeafDim> crossing{};
     // The same, coarser, so that a ray steps over empty blocks at once: bit 16 bx + 4 by + bz is
     // the 2^3 block of cells (2 bx.., 2 by.., 2 bz..), bit 4 bx + 2 by + bz the 4^3 block.
@@ -56,10 +59,21 @@ class CrossingCells {
     }
   };
 
-  // Indexes every leaf of `volume`; computes the crossing masks of the leaves that meet the
-  // frustum of a `k` camera at `camera_to_world` between min_depth and max_depth. Parallel (TBB).
+  struct Options {
+    // Copy the voxels the rays can read (leaves in view and their upper neighbours) instead of
+    // pointing into the volume: the copy stays valid while the volume changes (the server
+    // copies under its lock, a few ms, and renders without it).
+    bool copy_voxels = false;
+    bool with_color = false;  // also index (or copy) the colour of those leaves
+  };
+
+  // Indexes every leaf of `volume` and finds those that meet the frustum of a `k` camera at
+  // `camera_to_world` between min_depth and max_depth. Parallel (TBB).
   CrossingCells(const volume::LabeledVolume& volume, const PinholeIntrinsics& k, const Pose& camera_to_world,
-                double min_depth, double max_depth);
+                double min_depth, double max_depth, Options options);
+  // Computes the crossing masks of the leaves in view (parallel); reads only their voxels (or the
+  // copies), not the volume.
+  void findCrossings();
 
   // The leaf whose origin is `origin` (a multiple of 8 on each axis), or null where unallocated.
   const LeafCells* find(const openvdb::Coord& origin) const {
@@ -70,12 +84,6 @@ class CrossingCells {
       if (keys_[slot] == key) return &leaves_[index];
     }
   }
-  // Packed voxel at index-space coordinate `ijk`; unobserved (0) where no leaf is allocated.
-  volume::PackedVoxel voxel(const openvdb::Coord& ijk) const {
-    const LeafCells* leaf = find(ijk & ~(kLeafDim - 1));
-    return leaf ? leaf->voxels[Leaf::coordToOffset(ijk)] : volume::kUnobservedVoxel;
-  }
-
   const std::vector<LeafCells>& leaves() const { return leaves_; }
 
  private:
@@ -90,6 +98,8 @@ class CrossingCells {
   }
 
   std::vector<LeafCells> leaves_;
+  std::vector<volume::PackedVoxel> voxel_copies_;  // copy_voxels: Leaf::SIZE voxels per needed leaf
+  std::vector<volume::PackedColor> color_copies_;
   std::vector<uint64_t> keys_;
   std::vector<uint32_t> slots_;  // index into leaves_, kEmptySlot where free
   std::size_t slot_mask_ = 0;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <string>
 
 #include <tbb/blocked_range.h>
@@ -123,10 +124,8 @@ void shadePixel(volume::VolumeSampler& sampler, const MarchRay& ray, double t, R
 }
 
 // The same layers from the corners of the cell the fast path found the surface in: the
-// trilinear gradient at the hit and the corner nearest to it, with no further voxel reads (the
-// colour layer, kept in another grid, still goes through the sampler).
-void shadeHit(volume::VolumeSampler& sampler, const MarchRay& ray, const SurfaceHit& hit, RenderLayers layers,
-              RaycastImages& images, int u, int v) {
+// trilinear gradient at the hit and the corner nearest to it, with no further voxel reads.
+void shadeHit(const SurfaceHit& hit, RenderLayers layers, RaycastImages& images, int u, int v) {
   if (layers & kDepthLayer) images.depth.at<float>(v, u) = static_cast<float>(hit.t);
   const float fx = hit.fraction[0], fy = hit.fraction[1], fz = hit.fraction[2];
   if (layers & kNormalLayer) {
@@ -149,56 +148,57 @@ void shadeHit(volume::VolumeSampler& sampler, const MarchRay& ray, const Surface
     if (layers & kScoreLayer) images.scores.at<float>(v, u) = volume::unpackScore(voxel);
   }
   if (layers & kColorLayer) {
-    const Eigen::Vector3f point = (ray.origin + hit.t * ray.direction).cast<float>();
-    volume::Rgb8 rgb;
-    if (sampler.nearestColor(point, rgb)) images.color.at<cv::Vec3b>(v, u) = cv::Vec3b(rgb.r, rgb.g, rgb.b);
+    // The nearest corner's colour, from the leaf (or upper neighbour) that holds it.
+    const int x = hit.local[0] + (fx >= 0.5f ? 1 : 0), y = hit.local[1] + (fy >= 0.5f ? 1 : 0),
+              z = hit.local[2] + (fz >= 0.5f ? 1 : 0);
+    const volume::PackedColor* colors = hit.leaf->upper_colors[(x >> 3) | ((y >> 3) << 1) | ((z >> 3) << 2)];
+    if (colors) {
+      const volume::Rgb8 rgb = volume::unpackColor(colors[((x & 7) << 6) | ((y & 7) << 3) | (z & 7)]);
+      images.color.at<cv::Vec3b>(v, u) = cv::Vec3b(rgb.r, rgb.g, rgb.b);
+    }
   }
 }
 
-}  // namespace
+MarchRay rayThrough(const PinholeIntrinsics& k, const Pose& camera_to_world, const RaycastOptions& options, int u,
+                    int v) {
+  return MarchRay{camera_to_world.translation(),
+                  camera_to_world.linear() * Eigen::Vector3d((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0),
+                  options.min_depth, options.max_depth};
+}
 
-Result<RaycastImages> raycast(const volume::LabeledVolume& volume, const PinholeIntrinsics& k,
-                              const Pose& camera_to_world, const RaycastOptions& options) {
-  if (Status valid = validate(volume, k, camera_to_world, options); !valid) return makeError(valid.error());
+// The reference: each ray clipped to the allocated box and marched all the way by samples.
+RaycastImages renderPlain(const volume::LabeledVolume& volume, const PinholeIntrinsics& k, const Pose& camera_to_world,
+                          const RaycastOptions& options) {
   RaycastImages images = allocateImages(k, options.layers);
   const WorldBox bounds = allocatedBounds(volume);
-  if (bounds.empty) {
-    for (int v = 0; v < k.height; ++v) clearRow(images, v);
-    return images;
-  }
-
-  const Eigen::Matrix3d rotation = camera_to_world.linear();
-  const Eigen::Vector3d origin = camera_to_world.translation();
-  auto rayThrough = [&](int u, int v) {
-    return MarchRay{origin, rotation * Eigen::Vector3d((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0), options.min_depth,
-                    options.max_depth};
-  };
-  if (!options.skip_empty_space) {
-    // The baseline clips each ray to the allocated box and marches all of it.
-    tbb::parallel_for(tbb::blocked_range<int>(0, k.height, 4), [&](const tbb::blocked_range<int>& rows) {
-      RayMarcher marcher(volume);
-      volume::VolumeSampler sampler(volume);
-      for (int v = rows.begin(); v < rows.end(); ++v) {
-        clearRow(images, v);
-        for (int u = 0; u < k.width; ++u) {
-          MarchRay ray = rayThrough(u, v);
-          double t;
-          if (clipToBox(bounds, ray) && marcher.findSurface(ray, t))
-            shadePixel(sampler, ray, t, options.layers, images, u, v);
-        }
+  tbb::parallel_for(tbb::blocked_range<int>(0, k.height, 4), [&](const tbb::blocked_range<int>& rows) {
+    RayMarcher marcher(volume);
+    volume::VolumeSampler sampler(volume);
+    for (int v = rows.begin(); v < rows.end(); ++v) {
+      clearRow(images, v);
+      if (bounds.empty) continue;
+      for (int u = 0; u < k.width; ++u) {
+        MarchRay ray = rayThrough(k, camera_to_world, options, u, v);
+        double t;
+        if (clipToBox(bounds, ray) && marcher.findSurface(ray, t))
+          shadePixel(sampler, ray, t, options.layers, images, u, v);
       }
-    });
-    return images;
-  }
-  // Each ray walks the cells between the nearest and farthest block of crossing cells over its
-  // pixel, reading voxels only in crossing cells. Bands of rows in small tasks: rays over empty
-  // pixels cost nothing, so fine-grained tasks balance the two cores.
-  const detail::CrossingCells cells(volume, k, camera_to_world, options.min_depth, options.max_depth);
-  const detail::SurfaceDepthBounds surface_bounds(cells, volume.voxelSize(), k, camera_to_world, options.min_depth,
+    }
+  });
+  return images;
+}
+
+// The fast path: each ray walks the cells between the nearest and farthest block of crossing
+// cells over its pixel, reading voxels only in crossing cells. Bands of rows in small tasks: rays
+// over empty pixels cost nothing, so fine-grained tasks balance the cores.
+RaycastImages renderCells(detail::CrossingCells& cells, double voxel_size, const PinholeIntrinsics& k,
+                          const Pose& camera_to_world, const RaycastOptions& options) {
+  RaycastImages images = allocateImages(k, options.layers);
+  cells.findCrossings();
+  const detail::SurfaceDepthBounds surface_bounds(cells, voxel_size, k, camera_to_world, options.min_depth,
                                                   options.max_depth);
   tbb::parallel_for(tbb::blocked_range<int>(0, surface_bounds.bandCount(), 1), [&](const tbb::blocked_range<int>& bands) {
-    CellMarcher marcher(cells, volume.voxelSize());
-    volume::VolumeSampler sampler(volume);
+    CellMarcher marcher(cells, voxel_size);
     detail::BandBounds band_bounds;
     SurfaceHit hit;
     for (int band = bands.begin(); band < bands.end(); ++band) {
@@ -209,15 +209,66 @@ Result<RaycastImages> raycast(const volume::LabeledVolume& volume, const Pinhole
         for (int u = 0; u < k.width; ++u) {
           double near, far;
           if (!band_bounds.depthRange(u, v, near, far)) continue;
-          MarchRay ray = rayThrough(u, v);
+          MarchRay ray = rayThrough(k, camera_to_world, options, u, v);
           ray.t_min = std::max(ray.t_min, near);
           ray.t_max = std::min(ray.t_max, far);
-          if (marcher.findSurface(ray, hit)) shadeHit(sampler, ray, hit, options.layers, images, u, v);
+          if (marcher.findSurface(ray, hit)) shadeHit(hit, options.layers, images, u, v);
         }
       }
     }
   });
   return images;
+}
+
+detail::CrossingCells::Options cellOptions(const RaycastOptions& options, bool copy) {
+  detail::CrossingCells::Options o;
+  o.copy_voxels = copy;
+  o.with_color = (options.layers & kColorLayer) != 0;
+  return o;
+}
+
+}  // namespace
+
+struct PreparedRaycast::State {
+  PinholeIntrinsics intrinsics;
+  Pose camera_to_world;
+  RaycastOptions options;
+  double voxel_size = 0.0;
+  std::optional<detail::CrossingCells> cells;  // the fast path's copy (masks filled when rendering)
+  std::optional<volume::LabeledVolume> volume;         // the plain march's copy
+};
+
+Result<RaycastImages> raycast(const volume::LabeledVolume& volume, const PinholeIntrinsics& k,
+                              const Pose& camera_to_world, const RaycastOptions& options) {
+  if (Status valid = validate(volume, k, camera_to_world, options); !valid) return makeError(valid.error());
+  if (!options.skip_empty_space) return renderPlain(volume, k, camera_to_world, options);
+  detail::CrossingCells cells(volume, k, camera_to_world, options.min_depth, options.max_depth,
+                              cellOptions(options, false));
+  return renderCells(cells, volume.voxelSize(), k, camera_to_world, options);
+}
+
+Result<PreparedRaycast> prepareRaycast(const volume::LabeledVolume& volume, const PinholeIntrinsics& k,
+                                       const Pose& camera_to_world, const RaycastOptions& options) {
+  if (Status valid = validate(volume, k, camera_to_world, options); !valid) return makeError(valid.error());
+  auto state = std::make_shared<PreparedRaycast::State>();
+  state->intrinsics = k;
+  state->camera_to_world = camera_to_world;
+  state->options = options;
+  state->voxel_size = volume.voxelSize();
+  if (options.skip_empty_space)
+    state->cells.emplace(volume, k, camera_to_world, options.min_depth, options.max_depth, cellOptions(options, true));
+  else
+    state->volume.emplace(volume.deepCopy());
+  PreparedRaycast prepared;
+  prepared.state_ = std::move(state);
+  return prepared;
+}
+
+Result<RaycastImages> raycast(PreparedRaycast&& prepared) {
+  const std::shared_ptr<PreparedRaycast::State> state = std::move(prepared.state_);
+  if (!state) return makeError("raycast of an empty or already rendered PreparedRaycast (use prepareRaycast)");
+  if (state->volume) return renderPlain(*state->volume, state->intrinsics, state->camera_to_world, state->options);
+  return renderCells(*state->cells, state->voxel_size, state->intrinsics, state->camera_to_world, state->options);
 }
 
 }  // namespace semfuse::render

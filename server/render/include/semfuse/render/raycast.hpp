@@ -5,6 +5,7 @@
 // voxel cells, reading voxels only in cells whose corners change sign; bands of rows run in
 // parallel with TBB. server/render/README.md has the details and the figures.
 #include <cstdint>
+#include <memory>
 
 #include <opencv2/core/mat.hpp>
 
@@ -48,5 +49,26 @@ struct RaycastImages {
 // rigid, a bad depth range, an empty layer mask or colour asked of a volume without colour.
 Result<RaycastImages> raycast(const volume::LabeledVolume& volume, const PinholeIntrinsics& intrinsics,
                               const Pose& camera_to_world, const RaycastOptions& options = {});
+
+// A raycast in two steps, for a volume that changes under a lock (the server's map):
+// prepareRaycast() copies what the rays will read, the leaves in the camera's view and their
+// upper neighbours (a few ms, under the caller's lock), and raycast(std::move(prepared)) renders
+// from that copy, once, without touching the volume again. The images are those of raycast() at
+// the time of the copy. (With skip_empty_space off the whole volume is copied.)
+class PreparedRaycast {
+ public:
+  struct State;  // defined in raycast.cpp
+
+ private:
+  friend Result<PreparedRaycast> prepareRaycast(const volume::LabeledVolume&, const PinholeIntrinsics&, const Pose&,
+                                                const RaycastOptions&);
+  friend Result<RaycastImages> raycast(PreparedRaycast&&);
+  std::shared_ptr<State> state_;
+};
+
+// Same checks and failures as raycast().
+Result<PreparedRaycast> prepareRaycast(const volume::LabeledVolume& volume, const PinholeIntrinsics& intrinsics,
+                                       const Pose& camera_to_world, const RaycastOptions& options = {});
+Result<RaycastImages> raycast(PreparedRaycast&& prepared);
 
 }  // namespace semfuse::render
