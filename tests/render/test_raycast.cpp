@@ -112,6 +112,15 @@ double denseFirstCrossing(const volume::LabeledVolume& volume, const PinholeIntr
   const Eigen::Vector3d direction = pose.linear() * Eigen::Vector3d((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);
   auto valueAt = [&](double t, float& f) { return sampler.tsdf(Eigen::Vector3d(pose.translation() + t * direction), f); };
   const double step = volume.voxelSize() / 50.0 / direction.norm();
+  // The last valid ray parameter between a valid and an invalid one (either order).
+  auto boundary = [&](double valid, double invalid) {
+    for (int i = 0; i < 30; ++i) {
+      const double mid = 0.5 * (invalid + valid);
+      float f_mid;
+      (valueAt(mid, f_mid) ? valid : invalid) = mid;
+    }
+    return valid;
+  };
   bool have_positive = false, previous_valid = false;
   double t_prev = 0.0;
   float f_prev = 0.0f;
@@ -119,12 +128,7 @@ double denseFirstCrossing(const volume::LabeledVolume& volume, const PinholeIntr
     float f;
     if (!valueAt(t, f)) {
       if (previous_valid && have_positive) {  // the value just before the boundary, likewise
-        double valid = t - step, invalid = t;
-        for (int i = 0; i < 30; ++i) {
-          const double mid = 0.5 * (invalid + valid);
-          float f_mid;
-          (valueAt(mid, f_mid) ? valid : invalid) = mid;
-        }
+        const double valid = boundary(t - step, t);
         float f_exit;
         if (valueAt(valid, f_exit) && f_exit <= 0.0f) return t_prev + (valid - t_prev) * f_prev / (f_prev - f_exit);
       }
@@ -132,12 +136,7 @@ double denseFirstCrossing(const volume::LabeledVolume& volume, const PinholeIntr
       continue;
     }
     if (!previous_valid && t > options.min_depth) {
-      double invalid = t - step, valid = t;
-      for (int i = 0; i < 30; ++i) {
-        const double mid = 0.5 * (invalid + valid);
-        float f_mid;
-        (valueAt(mid, f_mid) ? valid : invalid) = mid;
-      }
+      const double valid = boundary(t, t - step);
       float f_entry;
       if (valueAt(valid, f_entry) && f_entry > 0.0f) {
         have_positive = true;
