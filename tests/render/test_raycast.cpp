@@ -312,6 +312,46 @@ TEST_F(RaycastTest, PrepareRejectsWhatRaycastRejects) {
   EXPECT_FALSE(prepareRaycast(volume_, testing::kSmallCamera, not_rigid, {}).ok());
 }
 
+// Rays parallel to grid axes and planes: a camera whose axes are the grid's, with its principal
+// point on a pixel centre, sends that pixel's ray along a grid axis and the rays of its row and
+// column in grid planes (zero direction components, where the walk's per-axis steps are
+// infinite; a NaN there once made rays loop forever). The fast path must find what the plain
+// march finds there, or the brute-force crossing where they differ: looking straight down at the
+// floor, and horizontally at the sphere.
+TEST_F(RaycastTest, RaysAlongGridAxesFindTheSameSurface) {
+  const PinholeIntrinsics centred{320, 240, 262.5, 262.5, 160.0, 120.0};
+  Pose down = Pose::Identity();
+  down.linear() = Eigen::Vector3d(1.0, -1.0, -1.0).asDiagonal();  // camera z = world -z
+  down.translation() = Eigen::Vector3d(0.5, 0.5, 1.0);
+  Pose level = Pose::Identity();  // camera z = world +x, camera y = world -z: row 120 is horizontal
+  level.linear() << 0, 0, 1, -1, 0, 0, 0, -1, 0;
+  level.translation() = Eigen::Vector3d(-0.8, 0.05, 0.35);
+  RaycastOptions fast{kDepthLayer | kNormalLayer};
+  RaycastOptions plain = fast;
+  plain.skip_empty_space = false;
+  for (const auto& [pose, centre_depth] : {std::pair{down, 1.0}, {level, 0.6}}) {
+    const auto a = raycast(volume_, centred, pose, fast).value();
+    const auto b = raycast(volume_, centred, pose, plain).value();
+    EXPECT_NEAR(a.depth.at<float>(120, 160), centre_depth, 0.5 * kVoxel);
+    // Row 120 and column 160: where fast and plain differ, the brute-force crossing decides.
+    int hits = 0, differ = 0, fast_wrong = 0;
+    auto compare = [&](int u, int v) {
+      const float da = a.depth.at<float>(v, u), db = b.depth.at<float>(v, u);
+      if (da <= 0 && db <= 0) return;
+      ++hits;
+      if (std::abs(da - db) < 0.1 * kVoxel) return;
+      ++differ;
+      const double truth = denseFirstCrossing(volume_, centred, pose, u, v, fast);
+      fast_wrong += (da <= 0 && truth <= 0) || std::abs(da - truth) < 0.1 * kVoxel ? 0 : 1;
+    };
+    for (int u = 0; u < centred.width; ++u) compare(u, 120);
+    for (int v = 0; v < centred.height; ++v) compare(160, v);
+    EXPECT_GT(hits, 250);
+    EXPECT_LT(differ, 0.05 * hits);
+    EXPECT_EQ(fast_wrong, 0) << "of " << differ << " pixels where fast and plain differ";
+  }
+}
+
 TEST(Raycast, EmptyVolumeGivesEmptyImages) {
   const volume::LabeledVolume empty{params()};
   const auto images = raycast(empty, testing::kSmallCamera, Pose::Identity()).value();

@@ -51,12 +51,14 @@ struct CellWalk {
     for (int a = 0; a < 3; ++a) {
       const int within = cell[a] & (dim - 1);
       to_face[a] = step[a] > 0 ? dim - 1 - within : within;
-      t_face[a] = t_next[a] + to_face[a] * t_delta[a];  // infinite where the ray does not move on a
+      // Infinite where the ray does not move along a (0 x infinity would be NaN, and a NaN here
+      // would pick the wrong exit face).
+      t_face[a] = step[a] == 0 ? kInf : t_next[a] + to_face[a] * t_delta[a];
     }
     const int exit = t_face[0] < t_face[1] ? (t_face[0] < t_face[2] ? 0 : 2) : (t_face[1] < t_face[2] ? 1 : 2);
     const double t_exit = t_face[exit];
     for (int a = 0; a < 3; ++a) {
-      if (a == exit) continue;
+      if (a == exit || step[a] == 0) continue;  // (0 x infinite t_delta would make t_next NaN)
       // Faces t_next + j t_delta, j < to_face, at or before the exit (a fixed-length count:
       // the number varies from ray to ray, and a loop that stops at it mispredicts).
       int crossed = 0;
@@ -178,7 +180,11 @@ bool CellMarcher::findSurface(const MarchRay& ray, SurfaceHit& hit) {
   openvdb::Coord leaf_origin(cell[0] & ~kLeafMask, cell[1] & ~kLeafMask, cell[2] & ~kLeafMask);
   const LeafCells* leaf = cells_->find(leaf_origin);
 
-  for (;;) {
+  // A ray crosses at most (t_max - t_min) (|dx| + |dy| + |dz|) + 3 cell faces; twice that bounds
+  // the loop whatever the floating point does at faces (a guard: the walk must never hang a query).
+  const double faces = (ray.t_max - ray.t_min) * (std::abs(d.x()) + std::abs(d.y()) + std::abs(d.z()));
+  const long max_steps = 2 * static_cast<long>(std::min(faces, 1e9)) + 16;
+  for (long steps = 0; steps < max_steps; ++steps) {
     const int lx = cell[0] & kLeafMask, ly = cell[1] & kLeafMask, lz = cell[2] & kLeafMask;
     const int empty_dim = leaf ? leaf->emptyBlockDim(lx, ly, lz) : kLeafDim;
     if (empty_dim > 1) {
@@ -255,6 +261,7 @@ bool CellMarcher::findSurface(const MarchRay& ray, SurfaceHit& hit) {
       leaf = cells_->find(leaf_origin);
     }
   }
+  return false;
 }
 
 }  // namespace semfuse::render::detail
