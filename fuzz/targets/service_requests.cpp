@@ -1,7 +1,7 @@
 // Fuzz target: the query services' requests. First byte picks the service (0 raycast,
 // 1 labels_at, 2 region, 3 objects, 4 mesh), the rest is its request's CDR as the RpcServer
 // receives it. The request then meets the same checks and the same map functions as in
-// server/app/src/services.cpp, on a small labeled map: render::raycast, sampleAt,
+// server/app/src/services.cpp, on a small labeled map: render::prepareRaycast + raycast, sampleAt,
 // summarizeRegion, findObjects, render::extractMesh. (The DDS reply plumbing is left out.)
 #include <cmath>
 #include <cstddef>
@@ -62,8 +62,11 @@ void raycast(const semfuse_srv_dds__Raycast_Request_& request) {
   render::RaycastOptions options;
   options.layers = request.layers;
   if (std::isfinite(request.max_range) && request.max_range > 0.0f) options.max_depth = request.max_range;
-  auto images = render::raycast(tinyMap(), intrinsics, pose, options);
-  if (!images) return;
+  // As the server does: copy the leaves in view, then render the copy.
+  auto prepared = render::prepareRaycast(tinyMap(), intrinsics, pose, options);
+  if (!prepared) return;
+  auto images = render::raycast(std::move(prepared.value()));
+  SEMFUSE_FUZZ_CHECK(images.ok());
   if (request.layers & render::kDepthLayer) {
     SEMFUSE_FUZZ_CHECK(images.value().depth.cols == intrinsics.width && images.value().depth.rows == intrinsics.height);
   }
