@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "semfuse/volume/cell_interpolation.hpp"
+
 namespace semfuse::render::detail {
 namespace {
 
@@ -14,21 +16,9 @@ constexpr int kRefineIterations = 3;
 constexpr int kMaxCubeDim = 8;  // a leaf
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-// Offsets of the 8 cell corners inside one leaf buffer, corner = dx + 2 dy + 4 dz (z fastest).
-constexpr int kCornerOffsets[8] = {0, 64, 8, 72, 1, 65, 9, 73};
-
 int floorInt(double x) {
   const int i = static_cast<int>(x);
   return i - (x < i);
-}
-
-// Trilinear interpolation of the corner values at (fx, fy, fz) inside the cell.
-float trilinear(const float v[8], double fx, double fy, double fz) {
-  const auto x = static_cast<float>(fx), y = static_cast<float>(fy), z = static_cast<float>(fz);
-  const float a00 = v[0] + (v[1] - v[0]) * x, a10 = v[2] + (v[3] - v[2]) * x;
-  const float a01 = v[4] + (v[5] - v[4]) * x, a11 = v[6] + (v[7] - v[6]) * x;
-  const float b0 = a00 + (a10 - a00) * y, b1 = a01 + (a11 - a01) * y;
-  return b0 + (b1 - b0) * z;
 }
 
 // The DDA's state between steps: the current cell, the ray parameter at which the ray leaves it
@@ -141,7 +131,7 @@ const CellMarcher::CachedCell& CellMarcher::cornersOf(const LeafCells& leaf, con
 void CellMarcher::gatherCorners(const LeafCells& leaf, const openvdb::Coord& local, volume::PackedVoxel corners[8]) {
   if (local.x() < kLeafMask && local.y() < kLeafMask && local.z() < kLeafMask) {
     const volume::PackedVoxel* base = leaf.voxels + CrossingCells::Leaf::coordToOffset(local);
-    for (int i = 0; i < 8; ++i) corners[i] = base[kCornerOffsets[i]];
+    for (int i = 0; i < 8; ++i) corners[i] = base[volume::kCellCornerOffsets[i]];
     return;
   }
   // A cell on an upper face: its corners lie in up to 8 leaves (this one and its upper neighbours).
@@ -199,7 +189,10 @@ bool CellMarcher::findSurface(const MarchRay& ray, SurfaceHit& hit) {
         const float* v = corners.tsdf;
         // The ray relative to the cell's base voxel.
         const double rx = o.x() - cell[0], ry = o.y() - cell[1], rz = o.z() - cell[2];
-        auto valueAt = [&](double at) { return trilinear(v, rx + at * d.x(), ry + at * d.y(), rz + at * d.z()); };
+        auto valueAt = [&](double at) {
+          return volume::trilinear(v, static_cast<float>(rx + at * d.x()), static_cast<float>(ry + at * d.y()),
+                                   static_cast<float>(rz + at * d.z()));
+        };
         const float f_in = valueAt(t);
         float f_out = valueAt(t_exit);
         double t_end = t_exit;  // the end of the bracket [t, t_end] of the crossing

@@ -158,18 +158,20 @@ CrossingCells::CrossingCells(const volume::LabeledVolume& volume, const PinholeI
                            meetsFrustum(leaves_[i].origin, voxel, world_to_camera, camera_origin, planes);
   });
   // The leaves rays can read: those in view and their upper neighbours (cells on a leaf's upper
-  // faces read those).
+  // faces read those), each leaf in view with its 8 (itself first), looked up once.
   std::vector<uint32_t> needed;
   std::vector<uint8_t> is_needed(leaves_.size(), 0);
+  std::vector<std::array<uint32_t, 8>> upper_of;  // per leaf in view, in leaf order; kEmptySlot where unallocated
   for (std::size_t i = 0; i < leaves_.size(); ++i) {
     if (!leaves_[i].in_view) continue;
+    std::array<uint32_t, 8>& upper = upper_of.emplace_back();
     for (int n = 0; n < 8; ++n) {
       const LeafCells* neighbour = find(leaves_[i].origin.offsetBy((n & 1) * kLeafDim, ((n >> 1) & 1) * kLeafDim,
                                                                    (n >> 2) * kLeafDim));
-      if (!neighbour) continue;
-      const auto j = static_cast<uint32_t>(neighbour - leaves_.data());
-      if (!is_needed[j]) needed.push_back(j);
-      is_needed[j] = 1;
+      upper[n] = neighbour ? static_cast<uint32_t>(neighbour - leaves_.data()) : kEmptySlot;
+      if (!neighbour || is_needed[upper[n]]) continue;
+      needed.push_back(upper[n]);
+      is_needed[upper[n]] = 1;
     }
   }
   std::vector<const volume::ColorGrid::TreeType::LeafNodeType*> color_leaves;
@@ -201,15 +203,15 @@ CrossingCells::CrossingCells(const volume::LabeledVolume& volume, const PinholeI
     for (uint32_t j : needed)
       if (color_leaves[j]) leaves_[j].colors = color_leaves[j]->buffer().data();
   }
-  for (std::size_t i = 0; i < leaves_.size(); ++i) {
-    LeafCells& leaf = leaves_[i];
+  auto upper = upper_of.begin();
+  for (LeafCells& leaf : leaves_) {
     if (!leaf.in_view) continue;
     for (int n = 0; n < 8; ++n) {
-      const LeafCells* neighbour =
-          n == 0 ? &leaf : find(leaf.origin.offsetBy((n & 1) * kLeafDim, ((n >> 1) & 1) * kLeafDim, (n >> 2) * kLeafDim));
+      const LeafCells* neighbour = (*upper)[n] == kEmptySlot ? nullptr : &leaves_[(*upper)[n]];
       leaf.upper[n] = neighbour ? neighbour->voxels : nullptr;
       leaf.upper_colors[n] = neighbour ? neighbour->colors : nullptr;
     }
+    ++upper;
   }
 }
 

@@ -11,6 +11,8 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "semfuse/volume/cell_interpolation.hpp"
+
 #include "mesh_cells.hpp"
 
 namespace semfuse::render::detail {
@@ -62,13 +64,8 @@ Eigen::Vector3f meanCrossing(const CellCorners& c, const CellTopology* topology 
 // Unit gradient of the trilinear interpolant of the corners at p (cell coordinates): the normal,
 // pointing towards free space. Zero where the gradient vanishes.
 Eigen::Vector3f normalAt(const CellCorners& c, const Eigen::Vector3f& p) {
-  const float* v = c.tsdf;
-  const float dx00 = v[1] - v[0], dx10 = v[3] - v[2], dx01 = v[5] - v[4], dx11 = v[7] - v[6];
-  const float a00 = v[0] + dx00 * p.x(), a10 = v[2] + dx10 * p.x();
-  const float a01 = v[4] + dx01 * p.x(), a11 = v[6] + dx11 * p.x();
-  const float b0 = a00 + (a10 - a00) * p.y(), b1 = a01 + (a11 - a01) * p.y();
-  const Eigen::Vector3f gradient((1 - p.z()) * (dx00 + (dx10 - dx00) * p.y()) + p.z() * (dx01 + (dx11 - dx01) * p.y()),
-                                 (1 - p.z()) * (a10 - a00) + p.z() * (a11 - a01), b1 - b0);
+  Eigen::Vector3f gradient;
+  volume::trilinearWithGradient(c.tsdf, p.x(), p.y(), p.z(), gradient);
   const float norm = gradient.norm();
   return norm > 0.0f ? Eigen::Vector3f(gradient / norm) : Eigen::Vector3f::Zero();
 }

@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <limits>
 
+#include "semfuse/volume/cell_interpolation.hpp"
+
 namespace semfuse::render::detail {
 namespace {
 
@@ -20,10 +22,6 @@ constexpr double kTsdfStepFraction = 0.8;
 // Smallest step, in voxels: where the TSDF is unknown (some corner unobserved) or tiny.
 constexpr double kMinStepVoxels = 0.5;
 constexpr int kRefineIterations = 2;
-
-// Offsets of the 8 cell corners inside one leaf buffer, corner = dx + 2 dy + 4 dz.
-// OpenVDB leaves store z fastest: offset = x * 64 + y * 8 + z.
-constexpr int kCornerOffsets[8] = {0, 64, 8, 72, 1, 65, 9, 73};
 
 // floor() for the index range of a grid; std::floor is a library call without SSE4.1, and it
 // sits in the innermost loop.
@@ -45,7 +43,7 @@ bool RayMarcher::gatherCorners(const LeafView& view, const openvdb::Coord& base,
       (base.z() & kLeafMask) != kLeafMask) {
     const PackedVoxel* values = view.values + LeafNode::coordToOffset(base);
     for (int i = 0; i < 8; ++i) {
-      corners[i] = values[kCornerOffsets[i]];
+      corners[i] = values[volume::kCellCornerOffsets[i]];
       if (!volume::isObserved(corners[i])) return false;
     }
     return true;
@@ -65,10 +63,7 @@ bool RayMarcher::sampleAt(const LeafView& view, const openvdb::Coord& base, cons
   for (int i = 0; i < 8; ++i) v[i] = volume::unpackTsdf(corners[i]);
   const auto fx = static_cast<float>(index.x() - base.x()), fy = static_cast<float>(index.y() - base.y()),
              fz = static_cast<float>(index.z() - base.z());
-  const float a00 = v[0] + (v[1] - v[0]) * fx, a10 = v[2] + (v[3] - v[2]) * fx;
-  const float a01 = v[4] + (v[5] - v[4]) * fx, a11 = v[6] + (v[7] - v[6]) * fx;
-  const float b0 = a00 + (a10 - a00) * fy, b1 = a01 + (a11 - a01) * fy;
-  tsdf_voxels = (b0 + (b1 - b0) * fz) * static_cast<float>(inv_voxel_size_);
+  tsdf_voxels = volume::trilinear(v, fx, fy, fz) * static_cast<float>(inv_voxel_size_);
   return true;
 }
 

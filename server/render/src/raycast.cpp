@@ -16,6 +16,7 @@
 #include "crossing_cells.hpp"
 #include "ray_marcher.hpp"
 #include "surface_depth_bounds.hpp"
+#include "semfuse/volume/cell_interpolation.hpp"
 #include "semfuse/volume/volume_sampler.hpp"
 
 namespace semfuse::render {
@@ -129,13 +130,8 @@ void shadeHit(const SurfaceHit& hit, RenderLayers layers, RaycastImages& images,
   if (layers & kDepthLayer) images.depth.at<float>(v, u) = static_cast<float>(hit.t);
   const float fx = hit.fraction[0], fy = hit.fraction[1], fz = hit.fraction[2];
   if (layers & kNormalLayer) {
-    const float* c = hit.tsdf;
-    const float dx00 = c[1] - c[0], dx10 = c[3] - c[2], dx01 = c[5] - c[4], dx11 = c[7] - c[6];
-    const float a00 = c[0] + dx00 * fx, a10 = c[2] + dx10 * fx;
-    const float a01 = c[4] + dx01 * fx, a11 = c[6] + dx11 * fx;
-    const float b0 = a00 + (a10 - a00) * fy, b1 = a01 + (a11 - a01) * fy;
-    const Eigen::Vector3f gradient((1 - fz) * (dx00 + (dx10 - dx00) * fy) + fz * (dx01 + (dx11 - dx01) * fy),
-                                   (1 - fz) * (a10 - a00) + fz * (a11 - a01), b1 - b0);
+    Eigen::Vector3f gradient;
+    volume::trilinearWithGradient(hit.tsdf, fx, fy, fz, gradient);
     if (gradient.squaredNorm() > 0.0f) {
       const Eigen::Vector3f n = gradient.normalized();
       images.normals.at<cv::Vec3f>(v, u) = cv::Vec3f(n.x(), n.y(), n.z());

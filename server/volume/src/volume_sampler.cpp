@@ -2,14 +2,13 @@
 
 #include <cmath>
 
+#include "semfuse/volume/cell_interpolation.hpp"
+
 namespace semfuse::volume {
 namespace {
 using GeometryLeaf = GeometryGrid::TreeType::LeafNodeType;
 constexpr int kLeafMask = GeometryLeaf::DIM - 1;
 
-// Offsets of the 8 corners inside one leaf buffer, corner index = dx + 2 dy + 4 dz.
-// OpenVDB leaves store z fastest: offset = x * 64 + y * 8 + z.
-constexpr int kCornerOffsets[8] = {0, 64, 8, 72, 1, 65, 9, 73};
 
 openvdb::Coord floorCoord(const Eigen::Vector3f& index) {
   return {static_cast<int>(std::floor(index.x())), static_cast<int>(std::floor(index.y())),
@@ -33,7 +32,7 @@ bool VolumeSampler::gatherCorners(const openvdb::Coord& base, PackedVoxel corner
     if (!leaf) return false;
     const PackedVoxel* values = leaf->buffer().data() + GeometryLeaf::coordToOffset(base);
     for (int i = 0; i < 8; ++i) {
-      corners[i] = values[kCornerOffsets[i]];
+      corners[i] = values[kCellCornerOffsets[i]];
       if (!isObserved(corners[i])) return false;
     }
     return true;
@@ -54,10 +53,7 @@ bool VolumeSampler::tsdf(const Eigen::Vector3f& world, float& tsdf) {
   const float fx = index.x() - base.x(), fy = index.y() - base.y(), fz = index.z() - base.z();
   float v[8];
   for (int i = 0; i < 8; ++i) v[i] = unpackTsdf(corners[i]);
-  const float a00 = v[0] + (v[1] - v[0]) * fx, a10 = v[2] + (v[3] - v[2]) * fx;
-  const float a01 = v[4] + (v[5] - v[4]) * fx, a11 = v[6] + (v[7] - v[6]) * fx;
-  const float b0 = a00 + (a10 - a00) * fy, b1 = a01 + (a11 - a01) * fy;
-  tsdf = b0 + (b1 - b0) * fz;
+  tsdf = trilinear(v, fx, fy, fz);
   return true;
 }
 
@@ -69,17 +65,8 @@ bool VolumeSampler::tsdfAndGradient(const Eigen::Vector3f& world, float& tsdf, E
   const float fx = index.x() - base.x(), fy = index.y() - base.y(), fz = index.z() - base.z();
   float v[8];
   for (int i = 0; i < 8; ++i) v[i] = unpackTsdf(corners[i]);
-  // Differences along x for the four (y, z) edges, then the analytic derivative of the trilinear
-  // interpolant: exact for the model the value comes from, so tracking's Jacobian matches it.
-  const float dx00 = v[1] - v[0], dx10 = v[3] - v[2], dx01 = v[5] - v[4], dx11 = v[7] - v[6];
-  const float a00 = v[0] + dx00 * fx, a10 = v[2] + dx10 * fx;
-  const float a01 = v[4] + dx01 * fx, a11 = v[6] + dx11 * fx;
-  const float b0 = a00 + (a10 - a00) * fy, b1 = a01 + (a11 - a01) * fy;
-  tsdf = b0 + (b1 - b0) * fz;
-  const float gx = (1 - fz) * (dx00 + (dx10 - dx00) * fy) + fz * (dx01 + (dx11 - dx01) * fy);
-  const float gy = (1 - fz) * (a10 - a00) + fz * (a11 - a01);
-  const float gz = b1 - b0;
-  gradient = Eigen::Vector3f(gx, gy, gz) * inv_voxel_size_;
+  tsdf = trilinearWithGradient(v, fx, fy, fz, gradient);
+  gradient *= inv_voxel_size_;
   return true;
 }
 
