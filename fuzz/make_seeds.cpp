@@ -135,6 +135,53 @@ void segmentationSeeds() {
   write("segmentation_cdr", "none", cdr(wire::encodeSegmentation(no_confidence).value().msg()));
 }
 
+// A layer of a raycast reply, as the server fills it (server/app/src/services.cpp).
+void fillImage(sensor_msgs_msg_dds__Image_& out, const cv::Mat& image, const char* encoding) {
+  out.width = static_cast<uint32_t>(image.cols);
+  out.height = static_cast<uint32_t>(image.rows);
+  out.step = static_cast<uint32_t>(image.cols * image.elemSize());
+  dds::setString(out.encoding, encoding);
+  dds::setString(out.header.frame_id, "camera");
+  dds::setSequence(out.data, image.ptr<uint8_t>(), image.total() * image.elemSize());
+}
+
+// Replies the client decodes: a 4x3 raycast (depth, normals, labels), a status, mesh chunks.
+void clientReplySeeds() {
+  dds::Sample<semfuse_srv_dds__Raycast_Response_> raycast;
+  const cv::Mat depth(3, 4, CV_32FC1, cv::Scalar(1.5f)), normals(3, 4, CV_32FC3, cv::Scalar(0.0f, 0.0f, -1.0f)),
+      labels(3, 4, CV_16UC1, cv::Scalar(7));
+  fillImage(raycast->depth, depth, "32FC1");
+  fillImage(raycast->normals, normals, "32FC3");
+  fillImage(raycast->labels, labels, "16UC1");
+  write("client_messages_cdr", "raycast-reply", withSelector(2, cdr(*raycast)));
+
+  dds::Sample<semfuse_msg_dds__ServerStatus_> status;
+  dds::setString(status->server_id, "server");
+  dds::setString(status->version, "0.1");
+  status->frames_received = 10;
+  status->frames_integrated = 9;
+  dds::resizeSequence(status->dropped, 1);
+  dds::setString(status->dropped._buffer[0].reason, "queue_full");
+  dds::setString(status->dropped._buffer[0].camera_id, "cam");
+  status->dropped._buffer[0].count = 1;
+  dds::resizeSequence(status->cameras, 1);
+  dds::setString(status->cameras._buffer[0].camera_id, "cam");
+  dds::resizeSequence(status->last_errors, 1);
+  dds::setString(status->last_errors._buffer[0].source, "frames");
+  dds::setString(status->last_errors._buffer[0].message, "depth size 4x3 does not match 8x6");
+  write("client_messages_cdr", "status", withSelector(3, cdr(*status)));
+
+  const std::string ply = "ply\nformat binary_little_endian 1.0\nelement vertex 0\nend_header\n";
+  for (uint32_t chunks : {1u, 2u}) {
+    dds::Sample<semfuse_srv_dds__Mesh_Response_> mesh;
+    mesh->mesh_id = 42;
+    mesh->chunk_count = chunks;
+    mesh->total_bytes = chunks * ply.size();
+    dds::setSequence(mesh->ply, reinterpret_cast<const uint8_t*>(ply.data()), ply.size());
+    write("client_messages_cdr", "mesh-reply-of-" + std::to_string(chunks), withSelector(4, cdr(*mesh)));
+  }
+}
+
 void clientMessageSeeds() {
   write("client_messages_cdr", "legend-voc", withSelector(0, cdr(wire::encodeLegend(*builtinLegend("voc")).msg())));
   LabelLegend small{"small", {{0, "other", {0, 0, 0}}, {4, "cup", {200, 10, 10}}}, {0}};
@@ -149,6 +196,7 @@ void clientMessageSeeds() {
   write("client_messages_cdr", "tracked-pose", withSelector(1, cdr(wire::encodeTrackedPose(pose).msg())));
   pose.state = PoseState::kLost;
   write("client_messages_cdr", "lost-pose", withSelector(1, cdr(wire::encodeTrackedPose(pose).msg())));
+  clientReplySeeds();
 }
 
 void rosSeeds(const Frame& frame) {

@@ -177,18 +177,15 @@ CallResult<std::vector<ObjectInstance>> MapClient::objects(LabelId label, uint32
 }
 
 CallResult<MeshData> MapClient::mesh(const std::optional<Box>& box, Timeout timeout) {
-  MeshData mesh;
-  uint64_t mesh_id = 0;
-  uint32_t chunk_count = 1;
-  uint64_t total_bytes = 0;
-  for (uint32_t chunk = 0; chunk < chunk_count; ++chunk) {
+  detail::MeshAssembly assembly;
+  for (uint32_t chunk = 0; chunk < assembly.chunkCount(); ++chunk) {
     dds::Sample<semfuse_srv_dds__Mesh_Request_> request;
     request->use_box = box.has_value();
     if (box) {
       request->box_min = toPoint(box->min);
       request->box_max = toPoint(box->max);
     }
-    request->mesh_id = mesh_id;
+    request->mesh_id = assembly.meshId();
     request->chunk_index = chunk;
     auto reply = impl_->mesh.call(*request, timeout);
     if (!reply) return {Failure::kTimeout, reply.error()};
@@ -196,26 +193,11 @@ CallResult<MeshData> MapClient::mesh(const std::optional<Box>& box, Timeout time
     if (!dds::replyOk(r)) {
       return {Failure::kServer, "server error " + std::to_string(r.status) + ": " + std::string(dds::replyMessage(r))};
     }
-    if (chunk == 0) {
-      // The first reply names the mesh that later chunks must come from.
-      mesh_id = r.mesh_id;
-      chunk_count = std::max<uint32_t>(1, r.chunk_count);
-      total_bytes = r.total_bytes;
-      mesh.vertex_count = r.vertex_count;
-      mesh.face_count = r.face_count;
-      mesh.ply.reserve(total_bytes);
-    } else if (r.mesh_id != mesh_id || r.chunk_index != chunk) {
-      return {Failure::kClient, "mesh reply for chunk " + std::to_string(r.chunk_index) + " of mesh " +
-                                    std::to_string(r.mesh_id) + ", expected chunk " + std::to_string(chunk) +
-                                    " of mesh " + std::to_string(mesh_id)};
-    }
-    mesh.ply.insert(mesh.ply.end(), r.ply._buffer, r.ply._buffer + r.ply._length);
+    if (Status added = assembly.add(r, chunk); !added) return {Failure::kClient, added.error()};
   }
-  if (total_bytes != 0 && mesh.ply.size() != total_bytes) {
-    return {Failure::kClient, "mesh has " + std::to_string(mesh.ply.size()) + " bytes, server announced " +
-                                  std::to_string(total_bytes)};
-  }
-  return mesh;
+  auto mesh = std::move(assembly).finish();
+  if (!mesh) return {Failure::kClient, mesh.error()};
+  return std::move(mesh).value();
 }
 
 CallResult<ServerStatus> MapClient::stats(Timeout timeout) {

@@ -1,6 +1,8 @@
 #include "reply_decoding.hpp"
 
+#include <algorithm>
 #include <cstring>
+#include <string>
 #include <vector>
 
 #include <opencv2/imgproc.hpp>
@@ -12,6 +14,9 @@ std::string str(const char* s) { return s ? std::string(s) : std::string(); }
 
 Result<cv::Mat> decodeImage(const sensor_msgs_msg_dds__Image_& image) {
   if (image.width == 0 || image.height == 0) return cv::Mat();
+  if (image.width > kMaxImageSide || image.height > kMaxImageSide)
+    return makeError("image of " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+                     " pixels exceeds " + std::to_string(kMaxImageSide) + " a side");
   const std::string encoding = str(image.encoding);
   int type = -1;
   if (encoding == "32FC1") type = CV_32FC1;
@@ -23,13 +28,13 @@ Result<cv::Mat> decodeImage(const sensor_msgs_msg_dds__Image_& image) {
   if (image.is_bigendian && CV_ELEM_SIZE1(type) > 1) return makeError("big-endian images are not supported");
   const int rows = static_cast<int>(image.height);
   const int cols = static_cast<int>(image.width);
-  const std::size_t row_bytes = static_cast<std::size_t>(cols) * CV_ELEM_SIZE(type);
-  const std::size_t step = image.step == 0 ? row_bytes : image.step;
-  if (step < row_bytes || image.data._length < step * (rows - 1) + row_bytes) {
+  const uint64_t row_bytes = static_cast<uint64_t>(cols) * CV_ELEM_SIZE(type);
+  const uint64_t step = image.step == 0 ? row_bytes : image.step;
+  if (step < row_bytes || image.data._length < step * static_cast<uint64_t>(rows - 1) + row_bytes) {
     return makeError("image data shorter than its " + std::to_string(cols) + "x" + std::to_string(rows) + " size");
   }
   cv::Mat mat(rows, cols, type);
-  for (int r = 0; r < rows; ++r) std::memcpy(mat.ptr(r), image.data._buffer + r * step, row_bytes);
+  for (int r = 0; r < rows; ++r) std::memcpy(mat.ptr(r), image.data._buffer + r * step, static_cast<std::size_t>(row_bytes));
   if (encoding == "bgr8") cv::cvtColor(mat, mat, cv::COLOR_BGR2RGB);
   return mat;
 }
@@ -78,6 +83,46 @@ ServerStatus decodeStatus(const semfuse_msg_dds__ServerStatus_& msg) {
   s.last_save_ok = msg.last_save_ok;
   s.last_save_age_s = msg.last_save_age_s;
   return s;
+}
+
+Status MeshAssembly::add(const semfuse_srv_dds__Mesh_Response_& reply, uint32_t chunk) {
+  if (chunk != chunks_added_)
+    return makeError("mesh chunk " + std::to_string(chunk) + " added after " + std::to_string(chunks_added_) +
+                     " chunks (they go in order)");
+  if (chunk == 0) {
+    // The first reply names the mesh that later chunks must come from.
+    mesh_id_ = reply.mesh_id;
+    chunk_count_ = std::max<uint32_t>(1, reply.chunk_count);
+    total_bytes_ = reply.total_bytes;
+    mesh_.vertex_count = reply.vertex_count;
+    mesh_.face_count = reply.face_count;
+    // Reserve what was announced, up to what can be trusted before the bytes arrive: the server
+    // cuts equal chunks but the last (so never more than chunk_count x the first), and a count
+    // near 2^32 with a total to match must not make the client allocate gigabytes up front.
+    const uint64_t possible = static_cast<uint64_t>(chunk_count_) * reply.ply._length;
+    mesh_.ply.reserve(static_cast<std::size_t>(std::min({total_bytes_, possible, kMaxMeshReserveBytes})));
+  } else if (chunk >= chunk_count_) {
+    return makeError("mesh chunk " + std::to_string(chunk) + " beyond the " + std::to_string(chunk_count_) +
+                     " chunks announced");
+  } else if (reply.mesh_id != mesh_id_ || reply.chunk_index != chunk) {
+    return makeError("mesh reply for chunk " + std::to_string(reply.chunk_index) + " of mesh " +
+                     std::to_string(reply.mesh_id) + ", expected chunk " + std::to_string(chunk) + " of mesh " +
+                     std::to_string(mesh_id_));
+  }
+  if (total_bytes_ != 0 && mesh_.ply.size() + reply.ply._length > total_bytes_)
+    return makeError("mesh chunks hold more than the " + std::to_string(total_bytes_) + " bytes announced");
+  mesh_.ply.insert(mesh_.ply.end(), reply.ply._buffer, reply.ply._buffer + reply.ply._length);
+  ++chunks_added_;
+  return Status::Ok();
+}
+
+Result<MeshData> MeshAssembly::finish() && {
+  if (chunks_added_ != chunk_count_)
+    return makeError("mesh has " + std::to_string(chunks_added_) + " of " + std::to_string(chunk_count_) + " chunks");
+  if (total_bytes_ != 0 && mesh_.ply.size() != total_bytes_)
+    return makeError("mesh has " + std::to_string(mesh_.ply.size()) + " bytes, server announced " +
+                     std::to_string(total_bytes_));
+  return std::move(mesh_);
 }
 
 }  // namespace semfuse::client::detail
