@@ -12,7 +12,8 @@ namespace {
 using LeafCells = CrossingCells::LeafCells;
 constexpr int kLeafDim = CrossingCells::kLeafDim;
 constexpr int kLeafMask = kLeafDim - 1;
-constexpr int kRefineIterations = 3;
+constexpr int kMaxNewtonSteps = 4;
+constexpr double kRootTolerance = 1e-4;  // of the segment through the cell
 constexpr int kMaxCubeDim = 8;  // a leaf
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
@@ -68,6 +69,9 @@ struct CellWalk {
 // its extent.
 struct SegmentCubic {
   double a0, a1, a2, a3;
+
+  double value(double s) const { return a0 + s * (a1 + s * (a2 + s * a3)); }
+  double slope(double s) const { return a1 + s * (2.0 * a2 + s * (3.0 * a3)); }
 };
 SegmentCubic segmentCubic(const float v[8], const double start[3], const double extent[3]) {
   // f = c0 + c1 x + c2 y + c3 z + c4 xy + c5 xz + c6 yz + c7 xyz (corner k = dx + 2 dy + 4 dz).
@@ -91,7 +95,6 @@ SegmentCubic segmentCubic(const float v[8], const double start[3], const double 
 double lowestInteriorPoint(const SegmentCubic& g, float g_start, float g_end) {
   // |g''| <= 2 |a2| + 6 |a3| on [0, 1], and g >= min(g(0), g(1)) - max|g''| / 8 there.
   if (std::min(g_start, g_end) > 0.25 * std::abs(g.a2) + 0.75 * std::abs(g.a3)) return -1.0;
-  auto value = [&](double x) { return g.a0 + x * (g.a1 + x * (g.a2 + x * g.a3)); };
   // Stationary points: roots of g'(s) = a1 + 2 a2 s + 3 a3 s^2.
   double roots[2];
   int count = 0;
@@ -108,11 +111,39 @@ double lowestInteriorPoint(const SegmentCubic& g, float g_start, float g_end) {
   }
   double lowest = -1.0, lowest_value = 0.0;
   for (int i = 0; i < count; ++i)
-    if (roots[i] > 0.0 && roots[i] < 1.0 && value(roots[i]) <= lowest_value) {
+    if (roots[i] > 0.0 && roots[i] < 1.0 && g.value(roots[i]) <= lowest_value) {
       lowest = roots[i];
-      lowest_value = value(roots[i]);
+      lowest_value = g.value(roots[i]);
     }
   return lowest;
+}
+
+// A root of g in [0, hi], g(0) > 0 >= g(hi), to kRootTolerance by halving the bracket.
+double bisectRoot(const SegmentCubic& g, double hi) {
+  double lo = 0.0;
+  while (hi - lo > kRootTolerance) {
+    const double mid = 0.5 * (lo + hi);
+    (g.value(mid) > 0.0 ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+// The root of g in [0, hi], where g(0) = g_lo > 0 >= g(hi) = g_hi: the secant through the ends,
+// then Newton steps on the cubic (Horner's rule: far less work than interpolating the corners
+// again) until a step moves less than kRootTolerance. Along a cell the interpolant is close to
+// linear almost everywhere, so one step nearly always ends it: a short chain of dependent
+// operations, which is what the ray waits for, and no branch that mispredicts. A step that would
+// leave [0, hi] (a strongly curved cubic, a flat slope) hands over to bisection, which cannot.
+double rootInBracket(const SegmentCubic& g, double hi, double g_lo, double g_hi) {
+  double s = hi * g_lo / (g_lo - g_hi);
+  for (int i = 0; i < kMaxNewtonSteps; ++i) {
+    const double next = s - g.value(s) / g.slope(s);
+    if (!(next >= 0.0 && next <= hi)) return bisectRoot(g, hi);
+    const double moved = std::abs(next - s);
+    s = next;
+    if (moved < kRootTolerance) break;
+  }
+  return s;
 }
 
 }  // namespace
@@ -194,53 +225,32 @@ bool CellMarcher::findSurface(const MarchRay& ray, SurfaceHit& hit) {
                                    static_cast<float>(rz + at * d.z()));
         };
         const float f_in = valueAt(t);
-        float f_out = valueAt(t_exit);
-        double t_end = t_exit;  // the end of the bracket [t, t_end] of the crossing
-        if (f_in > 0.0f && f_out > 0.0f) {
-          // Positive where the ray enters and leaves: the surface may still dip across the ray
-          // in between (the interpolant is a cubic along it).
+        if (f_in > 0.0f) {
+          const float f_out = valueAt(t_exit);
+          // The interpolant along the ray inside the cell, a cubic in s = (t' - t) / (t_exit - t).
           const double start[3] = {rx + t * d.x(), ry + t * d.y(), rz + t * d.z()};
           const double extent[3] = {(t_exit - t) * d.x(), (t_exit - t) * d.y(), (t_exit - t) * d.z()};
-          const double s = lowestInteriorPoint(segmentCubic(v, start, extent), f_in, f_out);
-          if (s > 0.0) {
-            t_end = t + s * (t_exit - t);
-            f_out = valueAt(t_end);
+          const SegmentCubic g = segmentCubic(v, start, extent);
+          // The bracket [0, s_end] of the crossing, with g(s_end) <= 0; none when s_end < 0.
+          double s_end = 1.0, g_end = f_out;
+          if (f_out > 0.0f) {
+            // Positive where the ray leaves too: the surface may still dip across the ray in between.
+            s_end = lowestInteriorPoint(g, f_in, f_out);
+            if (s_end > 0.0) g_end = g.value(s_end);
           }
-        }
-        if (f_in > 0.0f && f_out <= 0.0f) {
-          // Regula falsi (Illinois variant: an end kept twice in a row has its value halved, so
-          // that a curved interpolant does not hold one end fixed) between the cell's entry and
-          // the bracket's end.
-          double t_pos = t, t_neg = t_end;
-          float f_pos = f_in, f_neg = f_out;
-          int replaced = 0;  // which end the previous step replaced: +1 the positive one, -1 the negative
-          auto secant = [&] { return t_pos + (t_neg - t_pos) * f_pos / static_cast<double>(f_pos - f_neg); };
-          for (int i = 0; i < kRefineIterations && f_neg < 0.0f; ++i) {
-            const double t_mid = secant();
-            const float f_mid = valueAt(t_mid);
-            if (f_mid > 0.0f) {
-              t_pos = t_mid;
-              f_pos = f_mid;
-              if (replaced > 0) f_neg *= 0.5f;
-              replaced = 1;
-            } else {
-              t_neg = t_mid;
-              f_neg = f_mid;
-              if (replaced < 0) f_pos *= 0.5f;
-              replaced = -1;
-            }
+          if (s_end > 0.0) {
+            hit.t = t + rootInBracket(g, s_end, f_in, g_end) * (t_exit - t);
+            hit.leaf = leaf;
+            hit.local[0] = lx;
+            hit.local[1] = ly;
+            hit.local[2] = lz;
+            std::copy(std::begin(corners.corners), std::end(corners.corners), hit.corners);
+            std::copy(std::begin(corners.tsdf), std::end(corners.tsdf), hit.tsdf);
+            hit.fraction[0] = static_cast<float>(std::clamp(rx + hit.t * d.x(), 0.0, 1.0));
+            hit.fraction[1] = static_cast<float>(std::clamp(ry + hit.t * d.y(), 0.0, 1.0));
+            hit.fraction[2] = static_cast<float>(std::clamp(rz + hit.t * d.z(), 0.0, 1.0));
+            return true;
           }
-          hit.t = f_neg < 0.0f ? secant() : t_neg;
-          hit.leaf = leaf;
-          hit.local[0] = lx;
-          hit.local[1] = ly;
-          hit.local[2] = lz;
-          std::copy(std::begin(corners.corners), std::end(corners.corners), hit.corners);
-          std::copy(std::begin(corners.tsdf), std::end(corners.tsdf), hit.tsdf);
-          hit.fraction[0] = static_cast<float>(std::clamp(rx + hit.t * d.x(), 0.0, 1.0));
-          hit.fraction[1] = static_cast<float>(std::clamp(ry + hit.t * d.y(), 0.0, 1.0));
-          hit.fraction[2] = static_cast<float>(std::clamp(rz + hit.t * d.z(), 0.0, 1.0));
-          return true;
         }
       }
       if (walk.t_next[axis] >= ray.t_max) return false;

@@ -5,9 +5,9 @@
 // (i, j, k) centred at (i, j, k), cell (i, j, k) spanning [i, i + 1] x [j, j + 1] x [k, k + 1]).
 // Cells that are not crossing cells (CrossingCells) cost one bit test. In a crossing cell the
 // trilinear TSDF is evaluated where the ray enters and where it leaves; positive then
-// non-positive is the surface, refined by regula falsi on the same 8 corners. Compared with
-// stepping by samples, the first crossing along the ray is found exactly at cell granularity,
-// and no voxel is read outside crossing cells.
+// non-positive is the surface, located on the cubic that the interpolant is along the ray
+// (secant, then Newton). Compared with stepping by samples, the first crossing along the ray is
+// found exactly at cell granularity, and no voxel is read outside crossing cells.
 #include <cstdint>
 #include <limits>
 
