@@ -148,33 +148,7 @@ double rootInBracket(const SegmentCubic& g, double hi, double g_lo, double g_hi)
 
 }  // namespace
 
-const CellMarcher::CachedCell& CellMarcher::cornersOf(const LeafCells& leaf, const int cell[3],
-                                                      const openvdb::Coord& local) {
-  CachedCell& entry = cache_[(cell[0] + 3 * cell[1] + 5 * cell[2]) & (kCacheSize - 1)];
-  if (entry.cell[0] != cell[0] || entry.cell[1] != cell[1] || entry.cell[2] != cell[2]) {
-    gatherCorners(leaf, local, entry.corners);
-    volume::unpackTsdfs(entry.corners, entry.tsdf, 8);
-    for (int a = 0; a < 3; ++a) entry.cell[a] = cell[a];
-  }
-  return entry;
-}
-
-void CellMarcher::gatherCorners(const LeafCells& leaf, const openvdb::Coord& local, volume::PackedVoxel corners[8]) {
-  if (local.x() < kLeafMask && local.y() < kLeafMask && local.z() < kLeafMask) {
-    const volume::PackedVoxel* base = leaf.voxels + CrossingCells::Leaf::coordToOffset(local);
-    for (int i = 0; i < 8; ++i) corners[i] = base[volume::kCellCornerOffsets[i]];
-    return;
-  }
-  // A cell on an upper face: its corners lie in up to 8 leaves (this one and its upper neighbours).
-  for (int i = 0; i < 8; ++i) {
-    const int x = local.x() + (i & 1), y = local.y() + ((i >> 1) & 1), z = local.z() + (i >> 2);
-    const volume::PackedVoxel* voxels = leaf.upper[(x >> 3) | ((y >> 3) << 1) | ((z >> 3) << 2)];
-    corners[i] = voxels ? voxels[((x & kLeafMask) << 6) | ((y & kLeafMask) << 3) | (z & kLeafMask)]
-                        : volume::kUnobservedVoxel;
-  }
-}
-
-bool CellMarcher::findSurface(const MarchRay& ray, SurfaceHit& hit) {
+bool CellMarcher::findSurface(const MarchRay& ray, SurfaceHit& hit) const {
   if (!(ray.t_min < ray.t_max)) return false;
   const Eigen::Vector3d o = ray.origin * inv_voxel_size_;
   const Eigen::Vector3d d = ray.direction * inv_voxel_size_;
@@ -216,8 +190,11 @@ bool CellMarcher::findSurface(const MarchRay& ray, SurfaceHit& hit) {
       const int axis = walk.exitAxis();
       const double t_exit = std::min(walk.t_next[axis], ray.t_max);
       if (leaf->isCrossing(lx, ly, lz)) {
-        const CachedCell& corners = cornersOf(*leaf, cell, openvdb::Coord(lx, ly, lz));
-        const float* v = corners.tsdf;
+        // The cell's corners k = dx + 2 dy + 4 dz, from the leaf's brick.
+        const float* base = leaf->tsdf + CrossingCells::kBrickStride * lx + CrossingCells::kBrickDim * ly + lz;
+        constexpr int kX = CrossingCells::kBrickStride, kY = CrossingCells::kBrickDim;
+        const float v[8] = {base[0],  base[kX],     base[kY],     base[kX + kY],
+                            base[1],  base[kX + 1], base[kY + 1], base[kX + kY + 1]};
         // The ray relative to the cell's base voxel.
         const double rx = o.x() - cell[0], ry = o.y() - cell[1], rz = o.z() - cell[2];
         auto valueAt = [&](double at) {
@@ -244,8 +221,7 @@ bool CellMarcher::findSurface(const MarchRay& ray, SurfaceHit& hit) {
             hit.local[0] = lx;
             hit.local[1] = ly;
             hit.local[2] = lz;
-            std::copy(std::begin(corners.corners), std::end(corners.corners), hit.corners);
-            std::copy(std::begin(corners.tsdf), std::end(corners.tsdf), hit.tsdf);
+            std::copy(std::begin(v), std::end(v), hit.tsdf);
             hit.fraction[0] = static_cast<float>(std::clamp(rx + hit.t * d.x(), 0.0, 1.0));
             hit.fraction[1] = static_cast<float>(std::clamp(ry + hit.t * d.y(), 0.0, 1.0));
             hit.fraction[2] = static_cast<float>(std::clamp(rz + hit.t * d.z(), 0.0, 1.0));

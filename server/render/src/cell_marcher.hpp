@@ -18,46 +18,29 @@
 
 namespace semfuse::render::detail {
 
-// Where a ray meets the surface, with what shading needs: the cell's 8 corners (corner k =
-// dx + 2 dy + 4 dz), their TSDF (metres), and the hit point inside the cell.
+// Where a ray meets the surface, with what shading needs: the TSDF (metres) of the cell's 8
+// corners (corner k = dx + 2 dy + 4 dz), the hit point inside the cell, and where the cell is
+// (its other layers are read from the leaf, for the corner nearest to the hit only).
 struct SurfaceHit {
   double t = 0.0;  // camera depth
-  volume::PackedVoxel corners[8] = {};
   float tsdf[8] = {};
   float fraction[3] = {};  // hit point minus the cell's base voxel, each in [0, 1]
   const CrossingCells::LeafCells* leaf = nullptr;  // the leaf of the cell's base voxel
   int local[3] = {};                               // the base voxel in that leaf
 };
 
-// Marches rays; keeps the corners of the cells it read last, so one per thread.
+// Marches rays through the crossing cells of one CrossingCells (findCrossings() done).
 class CellMarcher {
  public:
   CellMarcher(const CrossingCells& cells, double voxel_size) : cells_(&cells), inv_voxel_size_(1.0 / voxel_size) {}
 
   // The first positive-to-non-positive crossing of the trilinear TSDF in [t_min, t_max); false
   // when none.
-  bool findSurface(const MarchRay& ray, SurfaceHit& hit);
+  bool findSurface(const MarchRay& ray, SurfaceHit& hit) const;
 
  private:
-  // A crossing cell's corners, as read and converted for an earlier ray: neighbouring pixels'
-  // rays pass through the same cells (a voxel spans ~6 pixels at 1 m with a 585 px focal).
-  struct CachedCell {
-    int cell[3] = {INT32_MIN, INT32_MIN, INT32_MIN};
-    volume::PackedVoxel corners[8] = {};
-    float tsdf[8] = {};
-  };
-  static constexpr int kCacheSize = 8;  // direct-mapped by cell coordinates
-
-  // The corners of crossing cell `cell` (leaf-local `local` in `leaf`), from the cache or read.
-  const CachedCell& cornersOf(const CrossingCells::LeafCells& leaf, const int cell[3], const openvdb::Coord& local);
-  // Reads the 8 corners of cell `local` (leaf-local base, 0..7) of `leaf`, reaching into the
-  // neighbouring leaves for the cells on its upper faces.
-  static void gatherCorners(const CrossingCells::LeafCells& leaf, const openvdb::Coord& local,
-                            volume::PackedVoxel corners[8]);
-
   const CrossingCells* cells_;
   double inv_voxel_size_;
-  CachedCell cache_[kCacheSize];
 };
 
 }  // namespace semfuse::render::detail

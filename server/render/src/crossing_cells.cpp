@@ -61,8 +61,9 @@ bool nonPositiveBits(uint64_t bits) { return (bits & 0x8000u) != 0 || (bits & 0x
 
 // The crossing cells of one leaf, from 9-bit voxel columns (bit z = voxel z, 0..8) of the leaf and
 // its +x / +y / +z neighbours: per cell, AND the observed bits of its 4 columns and 2 levels, OR
-// their non-positive and positive bits.
-std::array<uint64_t, kLeafDim> crossingMask(const LeafCells& leaf) {
+// their non-positive and positive bits. Writes the TSDF of the same voxels to `brick` on the way
+// (0 where a neighbour is unallocated: no crossing cell reads those).
+std::array<uint64_t, kLeafDim> crossingMask(const LeafCells& leaf, float* brick) {
   // voxels_of[a][b][c]: the leaf a leaves along +x, b along +y, c along +z (null if unallocated).
   auto voxels_of = [&](int a, int b, int c) { return leaf.upper[a | (b << 1) | (c << 2)]; };
   uint16_t observed[kSpan][kSpan], non_positive[kSpan][kSpan], positive[kSpan][kSpan];
@@ -72,17 +73,25 @@ std::array<uint64_t, kLeafDim> crossingMask(const LeafCells& leaf) {
       const volume::PackedVoxel* low = voxels_of(x >> 3, y >> 3, 0);
       const volume::PackedVoxel* high = voxels_of(x >> 3, y >> 3, 1);
       const int column = Leaf::coordToOffset(openvdb::Coord(x & 7, y & 7, 0));
+      float* brick_column = brick + CrossingCells::kBrickStride * x + CrossingCells::kBrickDim * y;
       unsigned seen = 0, below = 0;
-      if (low)
+      if (low) {
         for (int z = 0; z < kLeafDim; ++z) {
           const auto bits = static_cast<uint64_t>(low[column + z]);
           seen |= static_cast<unsigned>((bits & 0xFFFF0000u) != 0) << z;
           below |= static_cast<unsigned>(nonPositiveBits(bits)) << z;
+          brick_column[z] = volume::detail::halfValueBranchless(bits);
         }
+      } else {
+        std::fill(brick_column, brick_column + kLeafDim, 0.0f);
+      }
       if (high) {
         const auto bits = static_cast<uint64_t>(high[column]);
         seen |= static_cast<unsigned>((bits & 0xFFFF0000u) != 0) << kLeafDim;
         below |= static_cast<unsigned>(nonPositiveBits(bits)) << kLeafDim;
+        brick_column[kLeafDim] = volume::detail::halfValueBranchless(bits);
+      } else {
+        brick_column[kLeafDim] = 0.0f;
       }
       observed[x][y] = static_cast<uint16_t>(seen);
       non_positive[x][y] = static_cast<uint16_t>(seen & below);
@@ -216,11 +225,19 @@ CrossingCells::CrossingCells(const volume::LabeledVolume& volume, const PinholeI
 }
 
 void CrossingCells::findCrossings() {
+  // A brick per leaf in view, numbered in leaf order.
+  std::vector<uint32_t> brick_of(leaves_.size(), 0);
+  uint32_t bricks = 0;
+  for (std::size_t i = 0; i < leaves_.size(); ++i)
+    if (leaves_[i].in_view) brick_of[i] = bricks++;
+  bricks_.reset(new float[static_cast<std::size_t>(bricks) * kBrickSize]);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves_.size(), 64), [&](const auto& range) {
     for (std::size_t i = range.begin(); i < range.end(); ++i) {
       LeafCells& leaf = leaves_[i];
       if (!leaf.in_view) continue;
-      leaf.crossing = crossingMask(leaf);
+      float* brick = bricks_.get() + static_cast<std::size_t>(brick_of[i]) * kBrickSize;
+      leaf.crossing = crossingMask(leaf, brick);
+      leaf.tsdf = brick;
       summarizeBlocks(leaf);
     }
   });

@@ -14,6 +14,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include <openvdb/openvdb.h>
@@ -28,6 +29,9 @@ class CrossingCells {
   using Leaf = volume::GeometryGrid::TreeType::LeafNodeType;
   static constexpr int kLeafDim = Leaf::DIM;  // 8
   static_assert(kLeafDim == 8, "the crossing masks hold one 64-bit word per x slice of an 8^3 leaf");
+  static constexpr int kBrickDim = kLeafDim + 1;  // voxels per axis that the cells of a leaf read
+  static constexpr int kBrickStride = kBrickDim * kBrickDim;
+  static constexpr int kBrickSize = kBrickDim * kBrickStride;
 
   struct LeafCells {
     openvdb::Coord origin;
@@ -42,6 +46,11 @@ class CrossingCells {
     // Word x, bit 8 y + z: cell (x, y, z) (leaf-local base voxel) is a crossing cell. All zero
     // until findCrossings(), and for leaves outside the frustum given to the constructor.
     std::array<uint64_t, kLeafDim> crossing{};
+    // The TSDF (metres, as float) of voxels (x, y, z), 0 <= x, y, z <= 8, of this leaf and its
+    // upper neighbours, at kBrickStride * x + kBrickDim * y + z: a crossing cell's 8 corners
+    // at fixed offsets, with no branch for the cells on upper faces and no half conversion per
+    // ray. Filled by findCrossings() for the leaves in view; null for the others.
+    const float* tsdf = nullptr;
     // The same, coarser, so that a ray steps over empty blocks at once: bit 16 bx + 4 by + bz is
     // the 2^3 block of cells (2 bx.., 2 by.., 2 bz..), bit 4 bx + 2 by + bz the 4^3 block.
     uint64_t blocks2 = 0;
@@ -71,8 +80,8 @@ class CrossingCells {
   // `camera_to_world` between min_depth and max_depth. Parallel (TBB).
   CrossingCells(const volume::LabeledVolume& volume, const PinholeIntrinsics& k, const Pose& camera_to_world,
                 double min_depth, double max_depth, Options options);
-  // Computes the crossing masks of the leaves in view (parallel); reads only their voxels (or the
-  // copies), not the volume.
+  // Computes the crossing masks and TSDF bricks of the leaves in view (parallel); reads only
+  // their voxels (or the copies), not the volume.
   void findCrossings();
 
   // The leaf whose origin is `origin` (a multiple of 8 on each axis), or null where unallocated.
@@ -100,6 +109,9 @@ class CrossingCells {
   std::vector<LeafCells> leaves_;
   std::vector<volume::PackedVoxel> voxel_copies_;  // copy_voxels: Leaf::SIZE voxels per needed leaf
   std::vector<volume::PackedColor> color_copies_;
+  // kBrickSize per leaf in view, in leaf order; uninitialised until findCrossings() writes them
+  // (a std::vector would zero ~12 MB per raycast first).
+  std::unique_ptr<float[]> bricks_;
   std::vector<uint64_t> keys_;
   std::vector<uint32_t> slots_;  // index into leaves_, kEmptySlot where free
   std::size_t slot_mask_ = 0;

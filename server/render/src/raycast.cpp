@@ -124,8 +124,9 @@ void shadePixel(volume::VolumeSampler& sampler, const MarchRay& ray, double t, R
   }
 }
 
-// The same layers from the corners of the cell the fast path found the surface in: the
-// trilinear gradient at the hit and the corner nearest to it, with no further voxel reads.
+// The same layers from the cell the fast path found the surface in: the trilinear gradient of
+// its corners at the hit, and the label, score and colour of the corner nearest to the hit (read
+// from the leaf or upper neighbour that holds it, as the cell's corners were).
 void shadeHit(const SurfaceHit& hit, RenderLayers layers, RaycastImages& images, int u, int v) {
   if (layers & kDepthLayer) images.depth.at<float>(v, u) = static_cast<float>(hit.t);
   const float fx = hit.fraction[0], fy = hit.fraction[1], fz = hit.fraction[2];
@@ -137,19 +138,21 @@ void shadeHit(const SurfaceHit& hit, RenderLayers layers, RaycastImages& images,
       images.normals.at<cv::Vec3f>(v, u) = cv::Vec3f(n.x(), n.y(), n.z());
     }
   }
+  if (!(layers & (kLabelLayer | kScoreLayer | kColorLayer))) return;
+  // The nearest corner, leaf-local (0..8 on each axis: 8 is in the upper neighbour).
+  const int x = hit.local[0] + (fx >= 0.5f ? 1 : 0), y = hit.local[1] + (fy >= 0.5f ? 1 : 0),
+            z = hit.local[2] + (fz >= 0.5f ? 1 : 0);
+  const int holder = (x >> 3) | ((y >> 3) << 1) | ((z >> 3) << 2);
+  const int offset = ((x & 7) << 6) | ((y & 7) << 3) | (z & 7);
   if (layers & (kLabelLayer | kScoreLayer)) {
-    const int nearest = (fx >= 0.5f ? 1 : 0) | (fy >= 0.5f ? 2 : 0) | (fz >= 0.5f ? 4 : 0);
-    const volume::PackedVoxel voxel = hit.corners[nearest];
+    const volume::PackedVoxel* voxels = hit.leaf->upper[holder];
+    const volume::PackedVoxel voxel = voxels ? voxels[offset] : volume::kUnobservedVoxel;
     if (layers & kLabelLayer) images.labels.at<uint16_t>(v, u) = volume::unpackLabel(voxel);
     if (layers & kScoreLayer) images.scores.at<float>(v, u) = volume::unpackScore(voxel);
   }
   if (layers & kColorLayer) {
-    // The nearest corner's colour, from the leaf (or upper neighbour) that holds it.
-    const int x = hit.local[0] + (fx >= 0.5f ? 1 : 0), y = hit.local[1] + (fy >= 0.5f ? 1 : 0),
-              z = hit.local[2] + (fz >= 0.5f ? 1 : 0);
-    const volume::PackedColor* colors = hit.leaf->upper_colors[(x >> 3) | ((y >> 3) << 1) | ((z >> 3) << 2)];
-    if (colors) {
-      const volume::Rgb8 rgb = volume::unpackColor(colors[((x & 7) << 6) | ((y & 7) << 3) | (z & 7)]);
+    if (const volume::PackedColor* colors = hit.leaf->upper_colors[holder]) {
+      const volume::Rgb8 rgb = volume::unpackColor(colors[offset]);
       images.color.at<cv::Vec3b>(v, u) = cv::Vec3b(rgb.r, rgb.g, rgb.b);
     }
   }
