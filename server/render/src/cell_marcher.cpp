@@ -88,6 +88,18 @@ SegmentCubic segmentCubic(const float v[8], const double start[3], const double 
   return g;
 }
 
+// The bound of lowestInteriorPoint alone, from the cubic's a2 and a3 only: false when g, at least
+// `lowest_end` > 0 at both ends of [0, 1], cannot reach zero in between. Most crossing cells a
+// ray passes on their positive side are settled here, without the rest of the cubic.
+bool mayDipToZero(const float v[8], const double start[3], const double extent[3], float lowest_end) {
+  const double c4 = v[3] - v[2] - v[1] + v[0], c5 = v[5] - v[4] - v[1] + v[0], c6 = v[6] - v[4] - v[2] + v[0];
+  const double c7 = v[7] - v[6] - v[5] + v[4] - v[3] + v[2] + v[1] - v[0];
+  const double x = start[0], y = start[1], z = start[2], ax = extent[0], ay = extent[1], az = extent[2];
+  const double a2 = c4 * ax * ay + c5 * ax * az + c6 * ay * az + c7 * (x * ay * az + y * ax * az + z * ax * ay);
+  const double a3 = c7 * ax * ay * az;
+  return !(lowest_end > 0.25 * std::abs(a2) + 0.75 * std::abs(a3));
+}
+
 // Where g, positive at both ends of [0, 1], has an interior minimum that is not positive: a ray
 // that enters and leaves a cell on the positive side can still cut through the surface in between
 // (grazing a thin or curved piece of it). -1 when g stays positive, which a bound on g'' settles
@@ -204,14 +216,18 @@ bool CellMarcher::findSurface(const MarchRay& ray, SurfaceHit& hit) const {
         const float f_in = valueAt(t);
         if (f_in > 0.0f) {
           const float f_out = valueAt(t_exit);
-          // The interpolant along the ray inside the cell, a cubic in s = (t' - t) / (t_exit - t).
+          // The interpolant along the ray inside the cell is a cubic g in s = (t' - t) / (t_exit - t).
           const double start[3] = {rx + t * d.x(), ry + t * d.y(), rz + t * d.z()};
           const double extent[3] = {(t_exit - t) * d.x(), (t_exit - t) * d.y(), (t_exit - t) * d.z()};
-          const SegmentCubic g = segmentCubic(v, start, extent);
           // The bracket [0, s_end] of the crossing, with g(s_end) <= 0; none when s_end < 0.
-          double s_end = 1.0, g_end = f_out;
-          if (f_out > 0.0f) {
-            // Positive where the ray leaves too: the surface may still dip across the ray in between.
+          double s_end = -1.0, g_end = f_out;
+          SegmentCubic g{};
+          if (f_out <= 0.0f) {
+            s_end = 1.0;
+            g = segmentCubic(v, start, extent);
+          } else if (mayDipToZero(v, start, extent, std::min(f_in, f_out))) {
+            // Positive where the ray leaves too, but the surface may dip across the ray in between.
+            g = segmentCubic(v, start, extent);
             s_end = lowestInteriorPoint(g, f_in, f_out);
             if (s_end > 0.0) g_end = g.value(s_end);
           }
