@@ -64,49 +64,54 @@ struct CellWalk {
   }
 };
 
-// The trilinear interpolant of a cell's corners along a segment inside the cell, as a cubic
-// g(s) = a0 + a1 s + a2 s^2 + a3 s^3 for s in [0, 1], from the segment's start (cell-local) and
-// its extent.
+// The trilinear interpolant of a cell's corners as a polynomial in the cell-local position:
+// f = c0 + c1 x + c2 y + c3 z + c4 xy + c5 xz + c6 yz + c7 xyz (corner k = dx + 2 dy + 4 dz).
+struct CellPolynomial {
+  double c0, c1, c2, c3, c4, c5, c6, c7;
+
+  explicit CellPolynomial(const float v[8])
+      : c0(v[0]), c1(v[1] - v[0]), c2(v[2] - v[0]), c3(v[4] - v[0]), c4(v[3] - v[2] - v[1] + v[0]),
+        c5(v[5] - v[4] - v[1] + v[0]), c6(v[6] - v[4] - v[2] + v[0]),
+        c7(v[7] - v[6] - v[5] + v[4] - v[3] + v[2] + v[1] - v[0]) {}
+};
+
+// That interpolant along a segment inside the cell, as a cubic g(s) = a0 + a1 s + a2 s^2 + a3 s^3
+// for s in [0, 1], from the segment's start (cell-local) and its extent. a2 and a3 alone are what
+// the curvature bound needs (curvatureKeepsPositive), so they have a function of their own.
 struct SegmentCubic {
   double a0, a1, a2, a3;
 
   double value(double s) const { return a0 + s * (a1 + s * (a2 + s * a3)); }
   double slope(double s) const { return a1 + s * (2.0 * a2 + s * (3.0 * a3)); }
 };
-SegmentCubic segmentCubic(const float v[8], const double start[3], const double extent[3]) {
-  // f = c0 + c1 x + c2 y + c3 z + c4 xy + c5 xz + c6 yz + c7 xyz (corner k = dx + 2 dy + 4 dz).
-  const double c0 = v[0], c1 = v[1] - v[0], c2 = v[2] - v[0], c3 = v[4] - v[0];
-  const double c4 = v[3] - v[2] - v[1] + v[0], c5 = v[5] - v[4] - v[1] + v[0], c6 = v[6] - v[4] - v[2] + v[0];
-  const double c7 = v[7] - v[6] - v[5] + v[4] - v[3] + v[2] + v[1] - v[0];
+void curvatureTerms(const CellPolynomial& p, const double start[3], const double extent[3], double& a2, double& a3) {
+  const double x = start[0], y = start[1], z = start[2], ax = extent[0], ay = extent[1], az = extent[2];
+  a2 = p.c4 * ax * ay + p.c5 * ax * az + p.c6 * ay * az + p.c7 * (x * ay * az + y * ax * az + z * ax * ay);
+  a3 = p.c7 * ax * ay * az;
+}
+SegmentCubic segmentCubic(const CellPolynomial& p, const double start[3], const double extent[3]) {
   const double x = start[0], y = start[1], z = start[2], ax = extent[0], ay = extent[1], az = extent[2];
   SegmentCubic g;
-  g.a0 = c0 + c1 * x + c2 * y + c3 * z + c4 * x * y + c5 * x * z + c6 * y * z + c7 * x * y * z;
-  g.a1 = c1 * ax + c2 * ay + c3 * az + c4 * (x * ay + y * ax) + c5 * (x * az + z * ax) + c6 * (y * az + z * ay) +
-         c7 * (x * y * az + x * z * ay + y * z * ax);
-  g.a2 = c4 * ax * ay + c5 * ax * az + c6 * ay * az + c7 * (x * ay * az + y * ax * az + z * ax * ay);
-  g.a3 = c7 * ax * ay * az;
+  g.a0 = p.c0 + p.c1 * x + p.c2 * y + p.c3 * z + p.c4 * x * y + p.c5 * x * z + p.c6 * y * z + p.c7 * x * y * z;
+  g.a1 = p.c1 * ax + p.c2 * ay + p.c3 * az + p.c4 * (x * ay + y * ax) + p.c5 * (x * az + z * ax) +
+         p.c6 * (y * az + z * ay) + p.c7 * (x * y * az + x * z * ay + y * z * ax);
+  curvatureTerms(p, start, extent, g.a2, g.a3);
   return g;
 }
 
-// The bound of lowestInteriorPoint alone, from the cubic's a2 and a3 only: false when g, at least
-// `lowest_end` > 0 at both ends of [0, 1], cannot reach zero in between. Most crossing cells a
-// ray passes on their positive side are settled here, without the rest of the cubic.
-bool mayDipToZero(const float v[8], const double start[3], const double extent[3], float lowest_end) {
-  const double c4 = v[3] - v[2] - v[1] + v[0], c5 = v[5] - v[4] - v[1] + v[0], c6 = v[6] - v[4] - v[2] + v[0];
-  const double c7 = v[7] - v[6] - v[5] + v[4] - v[3] + v[2] + v[1] - v[0];
-  const double x = start[0], y = start[1], z = start[2], ax = extent[0], ay = extent[1], az = extent[2];
-  const double a2 = c4 * ax * ay + c5 * ax * az + c6 * ay * az + c7 * (x * ay * az + y * ax * az + z * ax * ay);
-  const double a3 = c7 * ax * ay * az;
-  return !(lowest_end > 0.25 * std::abs(a2) + 0.75 * std::abs(a3));
+// True when g, at least `lowest_end` > 0 at both ends of [0, 1], cannot reach zero in between:
+// |g''| <= 2 |a2| + 6 |a3| on [0, 1], and g >= min(g(0), g(1)) - max|g''| / 8 there. Most
+// crossing cells a ray passes on their positive side are settled by this, without the rest of
+// the cubic.
+bool curvatureKeepsPositive(double a2, double a3, float lowest_end) {
+  return lowest_end > 0.25 * std::abs(a2) + 0.75 * std::abs(a3);
 }
 
-// Where g, positive at both ends of [0, 1], has an interior minimum that is not positive: a ray
-// that enters and leaves a cell on the positive side can still cut through the surface in between
-// (grazing a thin or curved piece of it). -1 when g stays positive, which a bound on g'' settles
-// for almost every cell without solving for the minimum.
-double lowestInteriorPoint(const SegmentCubic& g, float g_start, float g_end) {
-  // |g''| <= 2 |a2| + 6 |a3| on [0, 1], and g >= min(g(0), g(1)) - max|g''| / 8 there.
-  if (std::min(g_start, g_end) > 0.25 * std::abs(g.a2) + 0.75 * std::abs(g.a3)) return -1.0;
+// Where g, positive at both ends of [0, 1] and not settled by curvatureKeepsPositive, has an
+// interior minimum that is not positive: a ray that enters and leaves a cell on the positive side
+// can still cut through the surface in between (grazing a thin or curved piece of it). -1 when g
+// stays positive.
+double lowestInteriorPoint(const SegmentCubic& g) {
   // Stationary points: roots of g'(s) = a1 + 2 a2 s + 3 a3 s^2.
   double roots[2];
   int count = 0;
@@ -217,6 +222,7 @@ bool CellMarcher::findSurface(const MarchRay& ray, SurfaceHit& hit) const {
         if (f_in > 0.0f) {
           const float f_out = valueAt(t_exit);
           // The interpolant along the ray inside the cell is a cubic g in s = (t' - t) / (t_exit - t).
+          const CellPolynomial p(v);
           const double start[3] = {rx + t * d.x(), ry + t * d.y(), rz + t * d.z()};
           const double extent[3] = {(t_exit - t) * d.x(), (t_exit - t) * d.y(), (t_exit - t) * d.z()};
           // The bracket [0, s_end] of the crossing, with g(s_end) <= 0; none when s_end < 0.
@@ -224,12 +230,16 @@ bool CellMarcher::findSurface(const MarchRay& ray, SurfaceHit& hit) const {
           SegmentCubic g{};
           if (f_out <= 0.0f) {
             s_end = 1.0;
-            g = segmentCubic(v, start, extent);
-          } else if (mayDipToZero(v, start, extent, std::min(f_in, f_out))) {
-            // Positive where the ray leaves too, but the surface may dip across the ray in between.
-            g = segmentCubic(v, start, extent);
-            s_end = lowestInteriorPoint(g, f_in, f_out);
-            if (s_end > 0.0) g_end = g.value(s_end);
+            g = segmentCubic(p, start, extent);
+          } else {
+            // Positive where the ray leaves too: the surface may still dip across the ray in between.
+            double a2, a3;
+            curvatureTerms(p, start, extent, a2, a3);
+            if (!curvatureKeepsPositive(a2, a3, std::min(f_in, f_out))) {
+              g = segmentCubic(p, start, extent);
+              s_end = lowestInteriorPoint(g);
+              if (s_end > 0.0) g_end = g.value(s_end);
+            }
           }
           if (s_end > 0.0) {
             hit.t = t + rootInBracket(g, s_end, f_in, g_end) * (t_exit - t);
