@@ -55,8 +55,17 @@ case "$step" in
     trap 'kill -TERM $server 2>/dev/null || true' EXIT
     "${as_user[@]}" "$prefix/bin/semfuse-camera" --domain-id "$domain" --source synthetic --frames 10 --rate 10 \
       --wait-server 20 >"$state/camera.log" 2>&1 || { tail -3 "$state/camera.log" >&2; exit 1; }
-    "${as_user[@]}" "$prefix/bin/semfuse-query" --domain-id "$domain" status --json >"$state/status.json"
-    grep -q '"frames_integrated": 10,' "$state/status.json" || { echo "steps: smoke run did not integrate 10 frames" >&2; exit 1; }
+    # The camera exits once its last frame is published; the server may still be integrating it.
+    for _ in $(seq 50); do
+      "${as_user[@]}" "$prefix/bin/semfuse-query" --domain-id "$domain" status --json >"$state/status.json" || true
+      grep -q '"frames_integrated": 10,' "$state/status.json" && break
+      sleep 0.2
+    done
+    grep -q '"frames_integrated": 10,' "$state/status.json" || {
+      echo "steps: smoke run did not integrate 10 frames; last status:" >&2
+      grep -E '"frames_(received|integrated|dropped|rejected)"' "$state/status.json" >&2 || true
+      exit 1
+    }
     [[ "$(ps -o user= -p "$server")" == "$user" ]] || { echo "steps: the server does not run as $user" >&2; exit 1; }
     kill -TERM "$server"; wait "$server" || { echo "steps: the server failed on exit" >&2; exit 1; }
     trap - EXIT
