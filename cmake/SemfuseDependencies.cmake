@@ -9,6 +9,7 @@ find_package(spdlog REQUIRED)
 find_package(CLI11 REQUIRED)
 find_package(yaml-cpp REQUIRED)
 find_package(Threads REQUIRED)
+find_package(JPEG REQUIRED)  # libjpeg-turbo: colour frames decode straight to RGB (common/wire)
 find_package(TBB REQUIRED)
 
 if(SEMFUSE_BUILD_SERVER)

@@ -7,6 +7,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "semfuse/wire/image_convert.hpp"
+#include "semfuse/wire/jpeg_decode.hpp"
 #include "semfuse/wire/validation.hpp"
 
 namespace semfuse::wire {
@@ -129,6 +130,11 @@ Result<cv::Mat> decodeColor(const semfuse_msg_dds__Frame_& msg, uint32_t width, 
                      std::to_string(h));
   }
   if (bytes == 0) return makeError("color: empty " + format + " payload");
+  if (encoding == "jpeg") {
+    auto rgb = decodeJpegRgb(sequenceData(msg.color), bytes, cv::Size(w, h));
+    if (!rgb) return makeError("color: " + rgb.error());
+    return rgb;
+  }
   const cv::Mat payload(1, static_cast<int>(bytes), CV_8UC1, const_cast<uint8_t*>(sequenceData(msg.color)));
   cv::Mat bgr;
   try {

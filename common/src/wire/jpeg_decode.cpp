@@ -1,0 +1,78 @@
+#include "semfuse/wire/jpeg_decode.hpp"
+
+#include <csetjmp>
+#include <cstdio>  // jpeglib.h uses FILE and size_t without including their headers
+#include <string>
+
+#include <jpeglib.h>
+
+namespace semfuse::wire {
+namespace {
+
+// libjpeg reports a fatal error by calling error_exit, which must not return: it jumps back into
+// decodeJpegRgb. Warnings go to output_message, which would print to stderr; they are counted.
+struct ErrorManager {
+  jpeg_error_mgr base;  // first: libjpeg sees a jpeg_error_mgr*
+  std::jmp_buf jump;
+  char message[JMSG_LENGTH_MAX];
+  int warnings;
+};
+
+[[noreturn]] void jumpOnError(j_common_ptr info) {
+  auto* errors = reinterpret_cast<ErrorManager*>(info->err);
+  (*info->err->format_message)(info, errors->message);
+  std::longjmp(errors->jump, 1);
+}
+
+void countWarning(j_common_ptr info) { ++reinterpret_cast<ErrorManager*>(info->err)->warnings; }
+
+void limitScans(j_common_ptr info) {
+  const auto* decompress = reinterpret_cast<j_decompress_ptr>(info);
+  if (decompress->input_scan_number <= kMaxJpegScans) return;
+  auto* errors = reinterpret_cast<ErrorManager*>(info->err);
+  std::snprintf(errors->message, sizeof(errors->message), "more than %d scans", kMaxJpegScans);
+  std::longjmp(errors->jump, 1);
+}
+
+}  // namespace
+
+Result<cv::Mat> decodeJpegRgb(const uint8_t* data, std::size_t size, cv::Size expected, int* warnings) {
+  if (data == nullptr || size == 0) return makeError("empty JPEG payload");
+  if (expected.width <= 0 || expected.height <= 0) return makeError("no image size to decode a JPEG into");
+  // Everything that must outlive a jump back here exists before setjmp and is not changed after
+  // it (C++ objects and setjmp mix only that way); libjpeg writes the rows into `rgb`'s buffer.
+  cv::Mat rgb(expected, CV_8UC3);
+  jpeg_decompress_struct info{};
+  ErrorManager errors{};
+  jpeg_progress_mgr progress{};
+  progress.progress_monitor = limitScans;
+  info.err = jpeg_std_error(&errors.base);
+  errors.base.error_exit = jumpOnError;
+  errors.base.output_message = countWarning;
+  jpeg_create_decompress(&info);
+  if (setjmp(errors.jump)) {
+    jpeg_destroy_decompress(&info);
+    return makeError(std::string("JPEG payload does not decode: ") + errors.message);
+  }
+  jpeg_mem_src(&info, data, static_cast<unsigned long>(size));
+  jpeg_read_header(&info, TRUE);
+  info.progress = &progress;
+  info.out_color_space = JCS_RGB;
+  if (static_cast<int>(info.image_width) != expected.width || static_cast<int>(info.image_height) != expected.height) {
+    const std::string declared = std::to_string(info.image_width) + "x" + std::to_string(info.image_height);
+    jpeg_destroy_decompress(&info);
+    return makeError("JPEG payload declares " + declared + ", expected " + std::to_string(expected.width) + "x" +
+                     std::to_string(expected.height));
+  }
+  jpeg_start_decompress(&info);
+  while (info.output_scanline < info.output_height) {
+    JSAMPROW row = rgb.ptr<uint8_t>(static_cast<int>(info.output_scanline));
+    jpeg_read_scanlines(&info, &row, 1);
+  }
+  jpeg_finish_decompress(&info);
+  jpeg_destroy_decompress(&info);
+  if (warnings) *warnings = errors.warnings;
+  return rgb;
+}
+
+}  // namespace semfuse::wire

@@ -1,0 +1,114 @@
+#include "semfuse/wire/jpeg_decode.hpp"
+
+#include <gtest/gtest.h>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+namespace semfuse::wire {
+namespace {
+
+// A colour image with edges and gradients in every channel, so that chroma subsampling and the
+// upsampling filter matter.
+cv::Mat texturedBgr(int width, int height) {
+  cv::Mat bgr(height, width, CV_8UC3);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
+      bgr.at<cv::Vec3b>(y, x) = cv::Vec3b(static_cast<uint8_t>((x * 7 + y * 3) & 0xFF),
+                                          static_cast<uint8_t>(((x / 5) % 2) * 200 + y % 50),
+                                          static_cast<uint8_t>((x * y) % 251));
+  return bgr;
+}
+
+std::vector<uint8_t> encodeJpeg(const cv::Mat& image, bool progressive = false) {
+  std::vector<uint8_t> bytes;
+  EXPECT_TRUE(cv::imencode(".jpg", image, bytes, {cv::IMWRITE_JPEG_QUALITY, 90, cv::IMWRITE_JPEG_PROGRESSIVE, progressive}));
+  return bytes;
+}
+
+cv::Mat openCvRgb(const std::vector<uint8_t>& bytes, int flags = cv::IMREAD_COLOR) {
+  cv::Mat decoded = cv::imdecode(bytes, flags), rgb;
+  cv::cvtColor(decoded, rgb, cv::COLOR_BGR2RGB);
+  return rgb;
+}
+
+TEST(JpegDecode, SamePixelsAsOpenCvBaselineAndProgressive) {
+  const cv::Mat bgr = texturedBgr(64, 48);
+  for (bool progressive : {false, true}) {
+    const auto bytes = encodeJpeg(bgr, progressive);
+    int warnings = -1;
+    auto rgb = decodeJpegRgb(bytes.data(), bytes.size(), {64, 48}, &warnings);
+    ASSERT_TRUE(rgb.ok()) << rgb.error();
+    EXPECT_EQ(rgb.value().type(), CV_8UC3);
+    EXPECT_EQ(warnings, 0);
+    EXPECT_EQ(cv::norm(rgb.value(), openCvRgb(bytes), cv::NORM_INF), 0.0) << "progressive " << progressive;
+  }
+}
+
+TEST(JpegDecode, GreyscaleComesOutAsEqualChannels) {
+  cv::Mat grey;
+  cv::cvtColor(texturedBgr(32, 16), grey, cv::COLOR_BGR2GRAY);
+  const auto bytes = encodeJpeg(grey);
+  auto rgb = decodeJpegRgb(bytes.data(), bytes.size(), {32, 16});
+  ASSERT_TRUE(rgb.ok()) << rgb.error();
+  const cv::Mat expected = cv::imdecode(bytes, cv::IMREAD_GRAYSCALE);
+  cv::Mat channels[3];
+  cv::split(rgb.value(), channels);
+  for (const cv::Mat& channel : channels) EXPECT_EQ(cv::norm(channel, expected, cv::NORM_INF), 0.0);
+}
+
+TEST(JpegDecode, OtherSizeThanExpectedIsRefused) {
+  const auto bytes = encodeJpeg(texturedBgr(20, 10));
+  EXPECT_EQ(decodeJpegRgb(bytes.data(), bytes.size(), {64, 48}).error(), "JPEG payload declares 20x10, expected 64x48");
+}
+
+TEST(JpegDecode, BrokenHeadersAreErrorsWithLibjpegsMessage) {
+  EXPECT_EQ(decodeJpegRgb(nullptr, 0, {8, 8}).error(), "empty JPEG payload");
+  const std::vector<uint8_t> garbage = {0x12, 0x34, 0x56, 0x78, 0x9a, 0xbc};
+  auto bad = decodeJpegRgb(garbage.data(), garbage.size(), {8, 8});
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.error().find("JPEG payload does not decode: Not a JPEG file"), std::string::npos) << bad.error();
+  // Cut inside the headers: no frame to decode.
+  const auto bytes = encodeJpeg(texturedBgr(16, 16));
+  auto cut = decodeJpegRgb(bytes.data(), 100, {16, 16});
+  ASSERT_FALSE(cut.ok());
+  EXPECT_EQ(cut.error().rfind("JPEG payload does not decode: ", 0), 0u) << cut.error();
+}
+
+TEST(JpegDecode, TruncatedScanDecodesWhatItHasAndWarns) {
+  // As cv::imdecode does: a JPEG cut inside its entropy-coded data still decodes (the rest is
+  // filled in), with a warning instead of an error.
+  const cv::Mat bgr = texturedBgr(64, 64);
+  const auto bytes = encodeJpeg(bgr);
+  const cv::Mat whole = decodeJpegRgb(bytes.data(), bytes.size(), {64, 64}).value();
+  int warnings = 0;
+  auto cut = decodeJpegRgb(bytes.data(), bytes.size() * 3 / 4, {64, 64}, &warnings);
+  ASSERT_TRUE(cut.ok()) << cut.error();
+  EXPECT_GT(warnings, 0);
+  // The first MCU rows (16 pixels) were in the payload and are exact.
+  EXPECT_EQ(cv::norm(cut.value().rowRange(0, 16), whole.rowRange(0, 16), cv::NORM_INF), 0.0);
+}
+
+TEST(JpegDecode, TooManyScansAreRefused) {
+  // A progressive JPEG whose last scan is repeated: libjpeg only warns about the repetition, and
+  // would decode every copy; the scan limit stops it.
+  const auto bytes = encodeJpeg(texturedBgr(32, 32), true);
+  std::size_t last_scan = 0;
+  for (std::size_t i = 0; i + 1 < bytes.size(); ++i)
+    if (bytes[i] == 0xFF && bytes[i + 1] == 0xDA) last_scan = i;
+  ASSERT_GT(last_scan, 0u);
+  ASSERT_EQ(bytes[bytes.size() - 2], 0xFF);
+  ASSERT_EQ(bytes[bytes.size() - 1], 0xD9);  // EOI
+  std::vector<uint8_t> repeated(bytes.begin(), bytes.end() - 2);
+  for (int copy = 0; copy < kMaxJpegScans + 20; ++copy)
+    repeated.insert(repeated.end(), bytes.begin() + static_cast<long>(last_scan), bytes.end() - 2);
+  repeated.insert(repeated.end(), {0xFF, 0xD9});
+  auto decoded = decodeJpegRgb(repeated.data(), repeated.size(), {32, 32});
+  ASSERT_FALSE(decoded.ok());
+  EXPECT_EQ(decoded.error(), "JPEG payload does not decode: more than 100 scans");
+  // The same file with its scans once decodes.
+  EXPECT_TRUE(decodeJpegRgb(bytes.data(), bytes.size(), {32, 32}).ok());
+}
+
+}  // namespace
+}  // namespace semfuse::wire
