@@ -50,21 +50,35 @@ struct TimedRuns {
   Timings wall, cpu;
 };
 
-TimedRuns timeRaycasts(const volume::LabeledVolume& map, const PinholeIntrinsics& k, const std::vector<Pose>& poses,
-                       const render::RaycastOptions& options, std::size_t repeats, double& hit_fraction) {
-  TimedRuns timings;
-  double hits = 0.0;
+// A raycast configuration to time: which layers and skipping, and which voxel reader.
+struct RaycastVariant {
+  render::RaycastOptions options;
+  render::RaycastKernel kernel;
+};
+
+// Times every variant on every pose, `repeats` times, the variants alternating run by run so that
+// they see the same load; `hit_fractions` gets each variant's share of pixels with a surface.
+std::vector<TimedRuns> timeRaycasts(const volume::LabeledVolume& map, const PinholeIntrinsics& k,
+                                    const std::vector<Pose>& poses, const std::vector<RaycastVariant>& variants,
+                                    std::size_t repeats, std::vector<double>& hit_fractions) {
+  std::vector<TimedRuns> timings(variants.size());
+  hit_fractions.assign(variants.size(), 0.0);
+  const render::RaycastKernel default_kernel = render::raycastKernel();
   for (const Pose& pose : poses)
-    for (std::size_t r = 0; r < repeats; ++r) {
-      Stopwatch watch;
-      CpuStopwatch cpu;
-      auto images = render::raycast(map, k, pose, options);
-      timings.wall.add(watch.elapsedMs());
-      timings.cpu.add(cpu.elapsedMs());
-      if (!images) std::fprintf(stderr, "semfuse-bench render: raycast: %s\n", images.error().c_str());
-      if (images && r == 0) hits += cv::countNonZero(images.value().depth) / static_cast<double>(k.width * k.height);
-    }
-  hit_fraction = poses.empty() ? 0.0 : hits / poses.size();
+    for (std::size_t r = 0; r < repeats; ++r)
+      for (std::size_t v = 0; v < variants.size(); ++v) {
+        render::setRaycastKernel(variants[v].kernel);
+        Stopwatch watch;
+        CpuStopwatch cpu;
+        auto images = render::raycast(map, k, pose, variants[v].options);
+        timings[v].wall.add(watch.elapsedMs());
+        timings[v].cpu.add(cpu.elapsedMs());
+        if (!images) std::fprintf(stderr, "semfuse-bench render: raycast: %s\n", images.error().c_str());
+        if (images && r == 0)
+          hit_fractions[v] += cv::countNonZero(images.value().depth) / static_cast<double>(k.width * k.height);
+      }
+  render::setRaycastKernel(default_kernel);
+  for (double& fraction : hit_fractions) fraction = poses.empty() ? 0.0 : fraction / poses.size();
   return timings;
 }
 
@@ -89,9 +103,10 @@ int runRenderBench(const RenderBenchOptions& options) {
     return 2;
   }
   const PinholeIntrinsics k = first.value().intrinsics;  // with the image size filled in
-  std::printf("semfuse-bench render: map of %zu frames of %s, voxel %.3f m, truncation %.3f m, %d threads\n",
+  std::printf("semfuse-bench render: map of %zu frames of %s, voxel %.3f m, truncation %.3f m, %d threads, %s voxel reader\n",
               frames, options.data.c_str(), params.voxel_size, params.truncation,
-              static_cast<int>(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism)));
+              static_cast<int>(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism)),
+              render::raycastKernelName(render::raycastKernel()));
   Stopwatch build_watch;
   auto map = buildMap(reader.value(), params, frames);
   if (!map) {
@@ -108,13 +123,21 @@ int runRenderBench(const RenderBenchOptions& options) {
   render::RaycastOptions fast{render::kDepthLayer | render::kNormalLayer | render::kLabelLayer};
   render::RaycastOptions baseline = fast;
   baseline.skip_empty_space = false;
-  double fast_hits = 0, baseline_hits = 0;
-  const TimedRuns raycast_fast = timeRaycasts(map.value(), k, poses, fast, options.repeats, fast_hits);
-  const TimedRuns raycast_baseline =
-      options.baseline ? timeRaycasts(map.value(), k, poses, baseline, options.repeats, baseline_hits) : TimedRuns{};
   render::RaycastOptions depth_only{render::kDepthLayer};
-  double depth_hits = 0;
-  const TimedRuns raycast_depth = timeRaycasts(map.value(), k, poses, depth_only, options.repeats, depth_hits);
+  const render::RaycastKernel kernel = render::raycastKernel();
+  // The portable voxel reader beside the default where the default is the AVX2 one.
+  const bool compare_kernels = kernel == render::RaycastKernel::kAvx2;
+  std::vector<RaycastVariant> variants{{fast, kernel}, {depth_only, kernel}};
+  if (compare_kernels) variants.push_back({fast, render::RaycastKernel::kScalar});
+  std::vector<double> hits;
+  const std::vector<TimedRuns> raycasts = timeRaycasts(map.value(), k, poses, variants, options.repeats, hits);
+  const TimedRuns& raycast_fast = raycasts[0];
+  const TimedRuns& raycast_depth = raycasts[1];
+  const double fast_hits = hits[0];
+  std::vector<double> baseline_hits;
+  const TimedRuns raycast_baseline =
+      options.baseline ? timeRaycasts(map.value(), k, poses, {{baseline, kernel}}, options.repeats, baseline_hits)[0]
+                       : TimedRuns{};
 
   TimedRuns mesh_timings, mesh_vtm_timings;
   Timings ply_timings;
@@ -163,6 +186,10 @@ int runRenderBench(const RenderBenchOptions& options) {
                 cpu(raycast_baseline) + "skipping is x" +
                     formatNumber(raycast_baseline.cpu.median() / raycast_fast.cpu.median(), 2) + " less CPU");
   table.addMs("raycast 640x480 depth only", raycast_depth.wall, cpu(raycast_depth));
+  if (compare_kernels)
+    table.addMs("  d+n+l, portable voxel reader", raycasts[2].wall,
+                cpu(raycasts[2]) + "the " + render::raycastKernelName(kernel) + " reader takes x" +
+                    formatNumber(raycast_fast.cpu.median() / raycasts[2].cpu.median(), 2) + " its CPU");
   table.addMs("mesh (surface nets + labels)", mesh_timings.wall,
               cpu(mesh_timings) + "target <= 100 ms; vdbfusion 262 ms (x" +
                   formatNumber(262.0 / mesh_timings.wall.median(), 2) + ")");

@@ -248,6 +248,48 @@ TEST(RaycastRoom, SkippingFindsTheSameSurfaceAndLabelsAsThePlainMarch) {
   EXPECT_GT(same_label, 0.995 * same_depth);
 }
 
+// The portable and the AVX2 voxel readers (RaycastKernel) must render the same images bit for
+// bit: on a fused room, and on the same room with its TSDF halves replaced by a scramble of every
+// finite bit pattern (subnormals, +-0, the largest halves) and some weights zeroed.
+TEST(RaycastRoom, KernelsGiveBitIdenticalImages) {
+  if (!raycastKernelAvailable(RaycastKernel::kAvx2)) GTEST_SKIP() << "this CPU has no AVX2 + F16C";
+  const LabeledScene room = synthetic::makeRoom();
+  volume::LabeledVolume fused{params()};
+  testing::fuse(fused, room, testing::arcAround({0.0, 0.0, 0.7}, 1.8, 0.6, 8, 2.5));
+  const Pose view = synthetic::lookAt({-1.2, 0.8, 1.4}, {0.4, -0.3, 0.5});
+  const RaycastOptions all{kAllLayers};
+  auto render = [&](RaycastKernel kernel) {
+    EXPECT_TRUE(setRaycastKernel(kernel));
+    auto images = raycast(fused, testing::kSmallCamera, view, all);
+    setRaycastKernel(RaycastKernel::kAvx2);
+    return std::move(images).value();
+  };
+  auto expectSame = [](const RaycastImages& a, const RaycastImages& b) {
+    for (const auto& [x, y] : {std::pair{a.depth, b.depth}, {a.normals, b.normals}, {a.labels, b.labels},
+                               {a.scores, b.scores}, {a.color, b.color}}) {
+      ASSERT_EQ(x.size(), y.size());
+      EXPECT_EQ(0, std::memcmp(x.data, y.data, x.total() * x.elemSize()));
+    }
+  };
+  const RaycastImages fused_scalar = render(RaycastKernel::kScalar);
+  expectSame(fused_scalar, render(RaycastKernel::kAvx2));
+  EXPECT_GT(cv::countNonZero(fused_scalar.depth), testing::kSmallCamera.width * testing::kSmallCamera.height / 2);
+
+  uint32_t scramble = 0;
+  for (auto voxel = fused.mutableGeometryGrid().beginValueOn(); voxel; ++voxel) {
+    uint64_t bits = static_cast<uint64_t>(*voxel);
+    scramble += 0x9E37u;
+    uint32_t half = scramble & 0xFFFFu;
+    if ((half & 0x7C00u) == 0x7C00u) half &= ~0x4000u;  // no inf or NaN: the map holds none
+    bits = (bits & ~uint64_t{0xFFFF}) | half;
+    if (scramble % 7 == 0) bits &= ~uint64_t{0xFFFF0000};  // unobserved
+    voxel.setValue(static_cast<volume::PackedVoxel>(bits));
+  }
+  const RaycastImages scrambled = render(RaycastKernel::kScalar);
+  expectSame(scrambled, render(RaycastKernel::kAvx2));
+  EXPECT_GT(cv::countNonZero(scrambled.depth), 1000);
+}
+
 TEST_F(RaycastTest, AnyResolutionOnlyRequestedLayers) {
   const auto small = raycast(volume_, testing::kSmallCamera.scaled(0.25), novel_, {kDepthLayer}).value();
   EXPECT_EQ(small.depth.cols, 80);

@@ -1,5 +1,8 @@
 #include "crossing_cells.hpp"
 
+#include "semfuse/render/raycast.hpp"
+#include "voxel_columns.hpp"
+
 #include <algorithm>
 
 #include <tbb/blocked_range.h>
@@ -11,7 +14,6 @@ namespace {
 using Leaf = CrossingCells::Leaf;
 using LeafCells = CrossingCells::LeafCells;
 constexpr int kLeafDim = CrossingCells::kLeafDim;
-constexpr int kSpan = kLeafDim + 1;  // the cells of a leaf read voxels 0..8 on each axis
 
 // A half-space through the camera centre (or parallel to the image plane) in camera coordinates:
 // n . p + offset >= 0 inside.
@@ -55,55 +57,17 @@ bool meetsFrustum(const openvdb::Coord& origin, double voxel, const Eigen::Matri
   return true;
 }
 
-// Non-positive TSDF read from the half's bits: the sign bit, or a zero magnitude (+0 counts:
-// the ray's crossing test is f <= 0).
-bool nonPositiveBits(uint64_t bits) { return (bits & 0x8000u) != 0 || (bits & 0x7FFFu) == 0; }
-
-// The crossing cells of one leaf, from 9-bit voxel columns (bit z = voxel z, 0..8) of the leaf and
-// its +x / +y / +z neighbours: per cell, AND the observed bits of its 4 columns and 2 levels, OR
-// their non-positive and positive bits. Writes the TSDF of the same voxels to `brick` on the way
-// (0 where a neighbour is unallocated: no crossing cell reads those).
-std::array<uint64_t, kLeafDim> crossingMask(const LeafCells& leaf, float* brick) {
-  // voxels_of[a][b][c]: the leaf a leaves along +x, b along +y, c along +z (null if unallocated).
-  auto voxels_of = [&](int a, int b, int c) { return leaf.upper[a | (b << 1) | (c << 2)]; };
-  uint16_t observed[kSpan][kSpan], non_positive[kSpan][kSpan], positive[kSpan][kSpan];
-  for (int x = 0; x < kSpan; ++x)
-    for (int y = 0; y < kSpan; ++y) {
-      // Voxels z = 0..7 of the column, then z = 8 from the +z neighbour.
-      const volume::PackedVoxel* low = voxels_of(x >> 3, y >> 3, 0);
-      const volume::PackedVoxel* high = voxels_of(x >> 3, y >> 3, 1);
-      const int column = Leaf::coordToOffset(openvdb::Coord(x & 7, y & 7, 0));
-      float* brick_column = brick + CrossingCells::kBrickStride * x + CrossingCells::kBrickDim * y;
-      unsigned seen = 0, below = 0;
-      if (low) {
-        for (int z = 0; z < kLeafDim; ++z) {
-          const auto bits = static_cast<uint64_t>(low[column + z]);
-          seen |= static_cast<unsigned>((bits & 0xFFFF0000u) != 0) << z;
-          below |= static_cast<unsigned>(nonPositiveBits(bits)) << z;
-          brick_column[z] = volume::detail::halfValueBranchless(bits);
-        }
-      } else {
-        std::fill(brick_column, brick_column + kLeafDim, 0.0f);
-      }
-      if (high) {
-        const auto bits = static_cast<uint64_t>(high[column]);
-        seen |= static_cast<unsigned>((bits & 0xFFFF0000u) != 0) << kLeafDim;
-        below |= static_cast<unsigned>(nonPositiveBits(bits)) << kLeafDim;
-        brick_column[kLeafDim] = volume::detail::halfValueBranchless(bits);
-      } else {
-        brick_column[kLeafDim] = 0.0f;
-      }
-      observed[x][y] = static_cast<uint16_t>(seen);
-      non_positive[x][y] = static_cast<uint16_t>(seen & below);
-      positive[x][y] = static_cast<uint16_t>(seen & ~below);
-    }
+// The crossing cells of one leaf, from its voxel columns (bit z = voxel z, 0..8; see
+// voxel_columns.hpp): per cell, AND the observed bits of its 4 columns and 2 levels, OR their
+// non-positive and positive bits.
+std::array<uint64_t, kLeafDim> crossingMask(const VoxelColumns& c) {
   std::array<uint64_t, kLeafDim> mask{};
   for (int x = 0; x < kLeafDim; ++x)
     for (int y = 0; y < kLeafDim; ++y) {
-      const unsigned all_seen = observed[x][y] & observed[x + 1][y] & observed[x][y + 1] & observed[x + 1][y + 1];
+      const unsigned all_seen = c.observed[x][y] & c.observed[x + 1][y] & c.observed[x][y + 1] & c.observed[x + 1][y + 1];
       const unsigned any_below =
-          non_positive[x][y] | non_positive[x + 1][y] | non_positive[x][y + 1] | non_positive[x + 1][y + 1];
-      const unsigned any_above = positive[x][y] | positive[x + 1][y] | positive[x][y + 1] | positive[x + 1][y + 1];
+          c.non_positive[x][y] | c.non_positive[x + 1][y] | c.non_positive[x][y + 1] | c.non_positive[x + 1][y + 1];
+      const unsigned any_above = c.positive[x][y] | c.positive[x + 1][y] | c.positive[x][y + 1] | c.positive[x + 1][y + 1];
       // Bit z of each: voxels z and z + 1 of the columns, the cell's two levels.
       const unsigned cells = (all_seen & (all_seen >> 1)) & (any_below | (any_below >> 1)) &
                              (any_above | (any_above >> 1)) & 0xFFu;
@@ -231,12 +195,15 @@ void CrossingCells::findCrossings() {
   for (std::size_t i = 0; i < leaves_.size(); ++i)
     if (leaves_[i].in_view) brick_of[i] = bricks++;
   bricks_.reset(new float[static_cast<std::size_t>(bricks) * kBrickSize]);
+  const auto read_columns = raycastKernel() == RaycastKernel::kAvx2 ? &readVoxelColumnsAvx2 : &readVoxelColumns;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves_.size(), 64), [&](const auto& range) {
+    VoxelColumns columns;
     for (std::size_t i = range.begin(); i < range.end(); ++i) {
       LeafCells& leaf = leaves_[i];
       if (!leaf.in_view) continue;
       float* brick = bricks_.get() + static_cast<std::size_t>(brick_of[i]) * kBrickSize;
-      leaf.crossing = crossingMask(leaf, brick);
+      read_columns(leaf, brick, columns);
+      leaf.crossing = crossingMask(columns);
       leaf.tsdf = brick;
       summarizeBlocks(leaf);
     }
