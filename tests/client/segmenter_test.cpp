@@ -160,7 +160,9 @@ TEST_F(SegmenterTest, ADelayedResultDoesNotHoldTheWorker) {
   // A worker that slept through the delay would have published frame 0 before taking frame 1.
   // (Both frames were segmented within the delay unless the machine stalled for 1.5 s.)
   const bool within_delay = std::chrono::steady_clock::now() - first_segmented < kDelay;
-  if (within_delay) EXPECT_EQ(segmenter.stats().published, 0u);
+  if (within_delay) {
+    EXPECT_EQ(segmenter.stats().published, 0u);
+  }
 
   std::vector<uint64_t> seqs;
   ASSERT_TRUE(eventually([&] {

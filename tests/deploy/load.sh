@@ -90,7 +90,8 @@ rss=$(json "$f" 'd["rss_bytes"]'); (( rss > peak_rss )) && peak_rss=$rss
 
 say "$duration s of ${#cameras[@]} cameras x $rate Hz + 2 segmenters + raycasts (wall ${elapsed}s):"
 # Frame accounting per camera. The server counts a frame it never saw as a sequence gap, which it
-# can only see between two frames it received: frames overwritten in its DDS reader (keep-last 2)
+# can only see between two frames it received: frames overwritten in its DDS reader (keep-last 8,
+# shared by all cameras: qos::frameIngest)
 # before the first received one are invisible to it and are counted here as "head loss".
 for i in "${!cameras[@]}"; do
   c=${cameras[$i]}

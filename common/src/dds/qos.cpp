@@ -53,6 +53,7 @@ Qos& Qos::volatileDurability() {
 namespace qos {
 
 Qos frames() { return std::move(Qos().reliable(kMaxBlockingTime).keepLast(2).volatileDurability()); }
+Qos frameIngest() { return std::move(Qos().reliable(kMaxBlockingTime).keepLast(8).volatileDurability()); }
 Qos segmentations() {
   return std::move(Qos().reliable(kMaxBlockingTime).keepLast(8).volatileDurability());
 }

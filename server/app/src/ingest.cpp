@@ -24,7 +24,7 @@ Ingest::Ingest(const dds::Participant& participant, FrameQueue& frames, FusionLo
       legend_(legend),
       frame_topic_(participant, dds::topics::kFrames),
       segmentation_topic_(participant, dds::topics::kSegmentations),
-      frame_reader_(frame_topic_, dds::qos::frames()),
+      frame_reader_(frame_topic_, dds::qos::frameIngest()),
       segmentation_reader_(segmentation_topic_, dds::qos::segmentations()),
       frames_ready_(frame_reader_.handle()),
       segmentations_ready_(segmentation_reader_.handle()),

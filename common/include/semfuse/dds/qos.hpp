@@ -36,6 +36,12 @@ namespace qos {
 inline constexpr dds_duration_t kMaxBlockingTime = DDS_SECS(2);
 
 Qos frames();         // reliable, keep-last 2, volatile: a late frame is worth less than a new one
+// The server's frames reader: frames() with keep-last 8. The topic has no key, so the depth is
+// shared by every camera: with 2, a burst of other cameras' frames while the ingest thread is
+// busy could overwrite one camera's last frames before they are taken, a loss that no later
+// frame of that camera reveals as a sequence gap. (History depth is not matched between writer
+// and reader.)
+Qos frameIngest();
 Qos segmentations();  // reliable, keep-last 8: segmenters run behind the camera
 Qos poses();          // reliable, keep-last 10
 Qos status();         // reliable, transient-local, keep-last 1: late joiners get the latest
