@@ -106,20 +106,7 @@ CrossingCells::CrossingCells(const volume::LabeledVolume& volume, const PinholeI
     leaves_[i].voxels = leaves[i]->buffer().data();
   }
 
-  // Open addressing with linear probing, at most half full.
-  std::size_t slots = 16;
-  while (slots < 2 * leaves_.size()) slots *= 2;
-  slot_mask_ = slots - 1;
-  hash_shift_ = 64 - __builtin_ctzll(slots);
-  keys_.assign(slots, 0);
-  slots_.assign(slots, kEmptySlot);
-  for (std::size_t i = 0; i < leaves_.size(); ++i) {
-    const uint64_t key = packOrigin(leaves_[i].origin);
-    std::size_t slot = hashSlot(key);
-    while (slots_[slot] != kEmptySlot) slot = (slot + 1) & slot_mask_;
-    keys_[slot] = key;
-    slots_[slot] = static_cast<uint32_t>(i);
-  }
+  index_ = LeafIndex(leaves_.size(), [&](std::size_t i) { return leaves_[i].origin; });
 
   const double voxel = volume.voxelSize();
   const Eigen::Matrix3d world_to_camera = camera_to_world.linear().transpose();
@@ -134,14 +121,14 @@ CrossingCells::CrossingCells(const volume::LabeledVolume& volume, const PinholeI
   // faces read those), each leaf in view with its 8 (itself first), looked up once.
   std::vector<uint32_t> needed;
   std::vector<uint8_t> is_needed(leaves_.size(), 0);
-  std::vector<std::array<uint32_t, 8>> upper_of;  // per leaf in view, in leaf order; kEmptySlot where unallocated
+  std::vector<std::array<uint32_t, 8>> upper_of;  // per leaf in view, in leaf order; kNone where unallocated
   for (std::size_t i = 0; i < leaves_.size(); ++i) {
     if (!leaves_[i].in_view) continue;
     std::array<uint32_t, 8>& upper = upper_of.emplace_back();
     for (int n = 0; n < 8; ++n) {
       const LeafCells* neighbour = find(leaves_[i].origin.offsetBy((n & 1) * kLeafDim, ((n >> 1) & 1) * kLeafDim,
                                                                    (n >> 2) * kLeafDim));
-      upper[n] = neighbour ? static_cast<uint32_t>(neighbour - leaves_.data()) : kEmptySlot;
+      upper[n] = neighbour ? static_cast<uint32_t>(neighbour - leaves_.data()) : LeafIndex::kNone;
       if (!neighbour || is_needed[upper[n]]) continue;
       needed.push_back(upper[n]);
       is_needed[upper[n]] = 1;
@@ -180,7 +167,7 @@ CrossingCells::CrossingCells(const volume::LabeledVolume& volume, const PinholeI
   for (LeafCells& leaf : leaves_) {
     if (!leaf.in_view) continue;
     for (int n = 0; n < 8; ++n) {
-      const LeafCells* neighbour = (*upper)[n] == kEmptySlot ? nullptr : &leaves_[(*upper)[n]];
+      const LeafCells* neighbour = (*upper)[n] == LeafIndex::kNone ? nullptr : &leaves_[(*upper)[n]];
       leaf.upper[n] = neighbour ? neighbour->voxels : nullptr;
       leaf.upper_colors[n] = neighbour ? neighbour->colors : nullptr;
     }

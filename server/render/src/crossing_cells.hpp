@@ -8,9 +8,9 @@
 // a 512-bit mask, built once per raycast from the voxels with bit operations, and only for the
 // leaves that meet the view frustum (no ray enters the others).
 //
-// The leaves are found by origin through an open-addressing hash table (a ray moves from leaf to
-// leaf every few cells; OpenVDB's accessor would walk the tree for each new leaf), and the same
-// table gives the voxels of the +x/+y/+z neighbours that the cells on a leaf's upper faces read.
+// The leaves are found by origin through a LeafIndex (a ray moves from leaf to leaf every few
+// cells), which also gives the voxels of the +x/+y/+z neighbours that the cells on a leaf's upper
+// faces read.
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -21,6 +21,7 @@
 
 #include "semfuse/core/types.hpp"
 #include "semfuse/volume/labeled_volume.hpp"
+#include "leaf_index.hpp"
 
 namespace semfuse::render::detail {
 
@@ -86,36 +87,19 @@ class CrossingCells {
 
   // The leaf whose origin is `origin` (a multiple of 8 on each axis), or null where unallocated.
   const LeafCells* find(const openvdb::Coord& origin) const {
-    const uint64_t key = packOrigin(origin);
-    for (std::size_t slot = hashSlot(key);; slot = (slot + 1) & slot_mask_) {
-      const uint32_t index = slots_[slot];
-      if (index == kEmptySlot) return nullptr;
-      if (keys_[slot] == key) return &leaves_[index];
-    }
+    const uint32_t index = index_.find(origin);
+    return index == LeafIndex::kNone ? nullptr : &leaves_[index];
   }
   const std::vector<LeafCells>& leaves() const { return leaves_; }
 
  private:
-  static constexpr uint32_t kEmptySlot = UINT32_MAX;
-  // Leaf origins are multiples of 8: 21 bits per axis of origin / 8 cover +-2^23 voxels.
-  static uint64_t packOrigin(const openvdb::Coord& o) {
-    auto axis = [](int32_t v) { return static_cast<uint64_t>(static_cast<uint32_t>(v >> 3) & 0x1FFFFFu); };
-    return axis(o.x()) | (axis(o.y()) << 21) | (axis(o.z()) << 42);
-  }
-  std::size_t hashSlot(uint64_t key) const {
-    return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> hash_shift_);
-  }
-
   std::vector<LeafCells> leaves_;
   std::vector<volume::PackedVoxel> voxel_copies_;  // copy_voxels: Leaf::SIZE voxels per needed leaf
   std::vector<volume::PackedColor> color_copies_;
   // kBrickSize per leaf in view, in leaf order; uninitialised until findCrossings() writes them
   // (a std::vector would zero ~12 MB per raycast first).
   std::unique_ptr<float[]> bricks_;
-  std::vector<uint64_t> keys_;
-  std::vector<uint32_t> slots_;  // index into leaves_, kEmptySlot where free
-  std::size_t slot_mask_ = 0;
-  int hash_shift_ = 64;
+  LeafIndex index_;  // origin -> position in leaves_
 };
 
 }  // namespace semfuse::render::detail

@@ -1,11 +1,13 @@
 #include "mesh_cells.hpp"
 
-#include <unordered_map>
-
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "leaf_index.hpp"
+
 namespace semfuse::render::detail {
+static_assert(LeafTable::kNone == LeafIndex::kNone);
+
 namespace {
 
 uint16_t observedBit(volume::PackedVoxel v) { return volume::isObserved(v) ? 1 : 0; }
@@ -103,18 +105,14 @@ uint32_t LeafCells::splitEdgeVertex(int x, int y, int z, int k, int axis) const 
 LeafTable::LeafTable(const GeometryTree& tree) {
   leaves_.reserve(tree.leafCount());
   tree.getNodes(leaves_);
-  std::unordered_map<openvdb::Coord, uint32_t> by_origin;
-  by_origin.reserve(leaves_.size());
-  for (std::size_t i = 0; i < leaves_.size(); ++i) by_origin.emplace(leaves_[i]->origin(), static_cast<uint32_t>(i));
+  const LeafIndex by_origin(leaves_.size(), [&](std::size_t i) { return leaves_[i]->origin(); });
   neighbours_.resize(leaves_.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves_.size(), 256),
                     [&](const tbb::blocked_range<std::size_t>& range) {
                       for (std::size_t i = range.begin(); i < range.end(); ++i)
-                        for (int k = 0; k < 27; ++k) {
-                          const auto it = by_origin.find(leaves_[i]->origin().offsetBy(
+                        for (int k = 0; k < 27; ++k)
+                          neighbours_[i][k] = by_origin.find(leaves_[i]->origin().offsetBy(
                               (k / 9 - 1) * kLeafDim, ((k / 3) % 3 - 1) * kLeafDim, (k % 3 - 1) * kLeafDim));
-                          neighbours_[i][k] = it == by_origin.end() ? kNone : it->second;
-                        }
                     });
 }
 
