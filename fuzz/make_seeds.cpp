@@ -20,6 +20,7 @@
 #include "semfuse/dds/sample.hpp"
 #include "semfuse/volume/map_file.hpp"
 #include "semfuse/wire/frame_codec.hpp"
+#include "semfuse/wire/image_message.hpp"
 #include "semfuse/wire/message_codecs.hpp"
 #include "semfuse/wire/ros_codec.hpp"
 #include "tiny_map.hpp"
@@ -136,23 +137,14 @@ void segmentationSeeds() {
 }
 
 // A layer of a raycast reply, as the server fills it (server/app/src/services.cpp).
-void fillImage(sensor_msgs_msg_dds__Image_& out, const cv::Mat& image, const char* encoding) {
-  out.width = static_cast<uint32_t>(image.cols);
-  out.height = static_cast<uint32_t>(image.rows);
-  out.step = static_cast<uint32_t>(image.cols * image.elemSize());
-  dds::setString(out.encoding, encoding);
-  dds::setString(out.header.frame_id, "camera");
-  dds::setSequence(out.data, image.ptr<uint8_t>(), image.total() * image.elemSize());
-}
-
 // Replies the client decodes: a 4x3 raycast (depth, normals, labels), a status, mesh chunks.
 void clientReplySeeds() {
   dds::Sample<semfuse_srv_dds__Raycast_Response_> raycast;
   const cv::Mat depth(3, 4, CV_32FC1, cv::Scalar(1.5f)), normals(3, 4, CV_32FC3, cv::Scalar(0.0f, 0.0f, -1.0f)),
       labels(3, 4, CV_16UC1, cv::Scalar(7));
-  fillImage(raycast->depth, depth, "32FC1");
-  fillImage(raycast->normals, normals, "32FC3");
-  fillImage(raycast->labels, labels, "16UC1");
+  wire::fillImageMessage(raycast->depth, depth, "32FC1");
+  wire::fillImageMessage(raycast->normals, normals, "32FC3");
+  wire::fillImageMessage(raycast->labels, labels, "16UC1");
   write("client_messages_cdr", "raycast-reply", withSelector(2, cdr(*raycast)));
 
   dds::Sample<semfuse_msg_dds__ServerStatus_> status;

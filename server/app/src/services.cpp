@@ -9,6 +9,7 @@
 #include "semfuse/render/ply_writer.hpp"
 #include "semfuse/render/raycast.hpp"
 #include "semfuse/wire/frame_codec.hpp"
+#include "semfuse/wire/image_message.hpp"
 #include "semfuse/wire/validation.hpp"
 
 namespace semfuse::server {
@@ -21,19 +22,6 @@ constexpr int32_t kInternal = semfuse_srv_dds__Status_Constants_INTERNAL;
 constexpr int32_t kTooLarge = semfuse_srv_dds__Status_Constants_TOO_LARGE;
 constexpr size_t kMeshesKept = 4;
 constexpr size_t kMaxPointsPerQuery = 1u << 20;
-
-// Copies an image into a reply's sensor_msgs/Image (dds_alloc'd, freed with the reply sample).
-void fillImage(sensor_msgs_msg_dds__Image_& out, const cv::Mat& image, const char* encoding) {
-  if (image.empty()) return;
-  out.width = static_cast<uint32_t>(image.cols);
-  out.height = static_cast<uint32_t>(image.rows);
-  out.step = static_cast<uint32_t>(image.cols * image.elemSize());
-  out.is_bigendian = 0;
-  dds::setString(out.encoding, encoding);
-  dds::setString(out.header.frame_id, "camera");
-  const cv::Mat packed = image.isContinuous() ? image : image.clone();
-  dds::setSequence(out.data, packed.ptr<uint8_t>(), packed.total() * packed.elemSize());
-}
 
 Eigen::Vector3d toEigen(const geometry_msgs_msg_dds__Point_& p) { return {p.x, p.y, p.z}; }
 geometry_msgs_msg_dds__Point_ toPoint(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
@@ -102,11 +90,11 @@ void Services::raycast(const semfuse_srv_dds__Raycast_Request_& request, semfuse
   auto images = render::raycast(std::move(prepared.value()));
   if (!images.ok()) return refuse(reply, kInvalid, "raycast", images.error());
   const auto& im = images.value();
-  fillImage(reply.depth, im.depth, "32FC1");
-  fillImage(reply.normals, im.normals, "32FC3");
-  fillImage(reply.labels, im.labels, "16UC1");
-  fillImage(reply.confidence, im.scores, "32FC1");
-  fillImage(reply.color, im.color, "rgb8");
+  wire::fillImageMessage(reply.depth, im.depth, "32FC1");
+  wire::fillImageMessage(reply.normals, im.normals, "32FC3");
+  wire::fillImageMessage(reply.labels, im.labels, "16UC1");
+  wire::fillImageMessage(reply.confidence, im.scores, "32FC1");
+  wire::fillImageMessage(reply.color, im.color, "rgb8");
   dds::setReplyStatus(reply, kOk, "");
 }
 
