@@ -57,6 +57,11 @@ class CrossingCells {
     uint64_t blocks2 = 0;
     uint8_t blocks4 = 0;
 
+    // Voxel (x, y, z), 0 <= x, y, z <= 8 leaf-local (8 lies in an upper neighbour), is voxel
+    // offsetInLeaf(x, y, z) of upper[upperHolding(x, y, z)] (and of upper_colors[...]).
+    static int upperHolding(int x, int y, int z) { return (x >> 3) | ((y >> 3) << 1) | ((z >> 3) << 2); }
+    static int offsetInLeaf(int x, int y, int z) { return ((x & 7) << 6) | ((y & 7) << 3) | (z & 7); }
+
     bool isCrossing(int x, int y, int z) const { return (crossing[x] >> ((y << 3) | z)) & 1u; }
     bool anyCrossing() const { return blocks2 != 0; }
     // Edge (8, 4 or 2 cells) of the largest aligned block around local cell (x, y, z) that holds

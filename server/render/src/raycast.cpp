@@ -142,8 +142,8 @@ void shadeHit(const SurfaceHit& hit, RenderLayers layers, RaycastImages& images,
   // The nearest corner, leaf-local (0..8 on each axis: 8 is in the upper neighbour).
   const int x = hit.local[0] + (fx >= 0.5f ? 1 : 0), y = hit.local[1] + (fy >= 0.5f ? 1 : 0),
             z = hit.local[2] + (fz >= 0.5f ? 1 : 0);
-  const int holder = (x >> 3) | ((y >> 3) << 1) | ((z >> 3) << 2);
-  const int offset = ((x & 7) << 6) | ((y & 7) << 3) | (z & 7);
+  const int holder = detail::CrossingCells::LeafCells::upperHolding(x, y, z);
+  const int offset = detail::CrossingCells::LeafCells::offsetInLeaf(x, y, z);
   if (layers & (kLabelLayer | kScoreLayer)) {
     const volume::PackedVoxel* voxels = hit.leaf->upper[holder];
     const volume::PackedVoxel voxel = voxels ? voxels[offset] : volume::kUnobservedVoxel;

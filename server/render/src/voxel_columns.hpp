@@ -33,11 +33,12 @@ struct ColumnSource {
   const volume::PackedVoxel* high;
 };
 inline ColumnSource columnSource(const CrossingCells::LeafCells& leaf, int x, int y) {
-  const int neighbour = (x >> 3) | ((y >> 3) << 1);  // +x / +y leaf for x, y = 8; the +z one is 4 further
-  const int column = CrossingCells::kLeafDim * (CrossingCells::kLeafDim * (x & 7) + (y & 7));  // voxel (x, y, 0)
-  const volume::PackedVoxel* low = leaf.upper[neighbour];
-  const volume::PackedVoxel* high = leaf.upper[neighbour | 4];
-  return {low ? low + column : nullptr, high ? high + column : nullptr};
+  using LeafCells = CrossingCells::LeafCells;
+  constexpr int kTop = CrossingCells::kLeafDim;
+  const volume::PackedVoxel* low = leaf.upper[LeafCells::upperHolding(x, y, 0)];
+  const volume::PackedVoxel* high = leaf.upper[LeafCells::upperHolding(x, y, kTop)];
+  return {low ? low + LeafCells::offsetInLeaf(x, y, 0) : nullptr,
+          high ? high + LeafCells::offsetInLeaf(x, y, kTop) : nullptr};
 }
 
 // Non-positive TSDF read from the half's bits: the sign bit, or a zero magnitude (+0 counts: the
