@@ -134,6 +134,17 @@ int runRenderBench(const RenderBenchOptions& options) {
   const TimedRuns& raycast_fast = raycasts[0];
   const TimedRuns& raycast_depth = raycasts[1];
   const double fast_hits = hits[0];
+  // What the server does under its map lock before each raycast query: copy the leaves in view.
+  TimedRuns prepare;
+  for (const Pose& pose : poses)
+    for (std::size_t r = 0; r < options.repeats; ++r) {
+      Stopwatch watch;
+      CpuStopwatch cpu;
+      auto prepared = render::prepareRaycast(map.value(), k, pose, fast);
+      prepare.wall.add(watch.elapsedMs());
+      prepare.cpu.add(cpu.elapsedMs());
+      if (!prepared) std::fprintf(stderr, "semfuse-bench render: prepare: %s\n", prepared.error().c_str());
+    }
   std::vector<double> baseline_hits;
   const TimedRuns raycast_baseline =
       options.baseline ? timeRaycasts(map.value(), k, poses, {{baseline, kernel}}, options.repeats, baseline_hits)[0]
@@ -186,6 +197,8 @@ int runRenderBench(const RenderBenchOptions& options) {
                 cpu(raycast_baseline) + "skipping is x" +
                     formatNumber(raycast_baseline.cpu.median() / raycast_fast.cpu.median(), 2) + " less CPU");
   table.addMs("raycast 640x480 depth only", raycast_depth.wall, cpu(raycast_depth));
+  table.addMs("  prepareRaycast (server, under lock)", prepare.wall,
+              cpu(prepare) + "copy of the leaves in view, part of the above");
   if (compare_kernels)
     table.addMs("  d+n+l, portable voxel reader", raycasts[2].wall,
                 cpu(raycasts[2]) + "the " + render::raycastKernelName(kernel) + " reader takes x" +

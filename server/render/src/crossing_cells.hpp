@@ -99,8 +99,8 @@ class CrossingCells {
 
  private:
   std::vector<LeafCells> leaves_;
-  std::vector<volume::PackedVoxel> voxel_copies_;  // copy_voxels: Leaf::SIZE voxels per needed leaf
-  std::vector<volume::PackedColor> color_copies_;
+  std::unique_ptr<volume::PackedVoxel[]> voxel_copies_;  // copy_voxels: Leaf::SIZE voxels per needed leaf
+  std::unique_ptr<volume::PackedColor[]> color_copies_;
   // kBrickSize per leaf in view, in leaf order; uninitialised until findCrossings() writes them
   // (a std::vector would zero ~12 MB per raycast first).
   std::unique_ptr<float[]> bricks_;
