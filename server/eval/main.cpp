@@ -30,6 +30,7 @@ struct Options {
   int runs = 2;
   double voxel_size = 0.02;
   double truncation = 0.08;
+  float w_clamp = volume::VolumeParams{}.max_label_score;  // the server's default
   int seven_scenes_frames = 500;
   int stride = 2;
   int network_stride = 4;
@@ -125,6 +126,7 @@ int run(const Options& o) {
   volume::VolumeParams params;
   params.voxel_size = o.voxel_size;
   params.truncation = o.truncation;
+  params.max_label_score = o.w_clamp;
   params.integrate_color = false;
   if (Status valid = params.validate(); !valid) {
     spdlog::error("{}", valid.error());
@@ -252,6 +254,9 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 16));
   app.add_option("--voxel-size", o.voxel_size, "voxel edge, metres")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--truncation", o.truncation, "TSDF truncation, metres")->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  app.add_option("--w-clamp", o.w_clamp, "W_clamp, the largest label score, of every experiment but 5's sweep")
+      ->capture_default_str()
       ->check(CLI::PositiveNumber);
   app.add_option("--7scenes-frames", o.seven_scenes_frames, "7-Scenes frames used (from 0)")->capture_default_str()
       ->check(CLI::Range(1, 100000));
