@@ -1,12 +1,12 @@
 #include "crossing_cells.hpp"
 
-#include "semfuse/render/raycast.hpp"
-#include "voxel_columns.hpp"
-
 #include <algorithm>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+
+#include "semfuse/render/raycast.hpp"
+#include "voxel_columns.hpp"
 
 namespace semfuse::render::detail {
 namespace {
