@@ -57,6 +57,21 @@ TEST(JpegDecode, GreyscaleComesOutAsEqualChannels) {
   for (const cv::Mat& channel : channels) EXPECT_EQ(cv::norm(channel, expected, cv::NORM_INF), 0.0);
 }
 
+TEST(JpegDecode, GreyStaysOneChannelWhenAskedAndColourIsRgb) {
+  cv::Mat grey;
+  cv::cvtColor(texturedBgr(32, 16), grey, cv::COLOR_BGR2GRAY);
+  const auto grey_jpeg = encodeJpeg(grey);
+  auto one = decodeJpegRgbOrGrey(grey_jpeg.data(), grey_jpeg.size(), {32, 16});
+  ASSERT_TRUE(one.ok()) << one.error();
+  ASSERT_EQ(one.value().type(), CV_8UC1);
+  EXPECT_TRUE(one.value().isContinuous());
+  EXPECT_EQ(cv::norm(one.value(), cv::imdecode(grey_jpeg, cv::IMREAD_GRAYSCALE), cv::NORM_INF), 0.0);
+  const auto colour_jpeg = encodeJpeg(texturedBgr(32, 16));
+  auto three = decodeJpegRgbOrGrey(colour_jpeg.data(), colour_jpeg.size(), {32, 16});
+  ASSERT_TRUE(three.ok()) << three.error();
+  EXPECT_EQ(cv::norm(three.value(), openCvRgb(colour_jpeg), cv::NORM_INF), 0.0);
+}
+
 TEST(JpegDecode, OtherSizeThanExpectedIsRefused) {
   const auto bytes = encodeJpeg(texturedBgr(20, 10));
   EXPECT_EQ(decodeJpegRgb(bytes.data(), bytes.size(), {64, 48}).error(), "JPEG payload declares 20x10, expected 64x48");

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 namespace semfuse::wire {
 namespace {
@@ -85,6 +86,32 @@ TEST(RosCompressedImage, PngAndJpeg) {
   EXPECT_EQ(compressedImageToMat(msg).error(), "compressed image: JPEG payload does not decode: not a JPEG (no SOI marker)");
   msg.format = const_cast<char*>("tiff");
   EXPECT_EQ(compressedImageToMat(msg).error(), "compressed image: unknown format 'tiff' (known: jpeg, png)");
+}
+
+TEST(RosCompressedImage, JpegKeepsItsChannelCount) {
+  cv::Mat bgr(16, 24, CV_8UC3);
+  cv::randu(bgr, 0, 255);
+  std::vector<uint8_t> jpeg;
+  ASSERT_TRUE(cv::imencode(".jpg", bgr, jpeg));
+  sensor_msgs_msg_dds__CompressedImage_ msg{};
+  msg.format = const_cast<char*>("bgr8; jpeg compressed bgr8");
+  msg.data = {static_cast<uint32_t>(jpeg.size()), static_cast<uint32_t>(jpeg.size()), jpeg.data(), false};
+  auto rgb = compressedImageToMat(msg);
+  ASSERT_TRUE(rgb.ok()) << rgb.error();
+  cv::Mat expected;
+  cv::cvtColor(cv::imdecode(jpeg, cv::IMREAD_COLOR), expected, cv::COLOR_BGR2RGB);
+  ASSERT_EQ(rgb.value().type(), CV_8UC3);
+  EXPECT_EQ(cv::norm(rgb.value(), expected, cv::NORM_INF), 0.0);
+
+  cv::Mat grey;
+  cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
+  ASSERT_TRUE(cv::imencode(".jpg", grey, jpeg));
+  msg.format = const_cast<char*>("mono8; jpeg compressed mono8");
+  msg.data = {static_cast<uint32_t>(jpeg.size()), static_cast<uint32_t>(jpeg.size()), jpeg.data(), false};
+  auto mono = compressedImageToMat(msg);
+  ASSERT_TRUE(mono.ok()) << mono.error();
+  ASSERT_EQ(mono.value().type(), CV_8UC1);
+  EXPECT_EQ(cv::norm(mono.value(), cv::imdecode(jpeg, cv::IMREAD_GRAYSCALE), cv::NORM_INF), 0.0);
 }
 
 TEST(RosCameraInfo, KnownValuesBothWays) {

@@ -34,9 +34,8 @@ void limitScans(j_common_ptr info) {
   std::longjmp(errors->jump, 1);
 }
 
-}  // namespace
-
-Result<cv::Mat> decodeJpegRgb(const uint8_t* data, std::size_t size, cv::Size expected, int* warnings) {
+// Both public decoders: RGB, or (keep_grey) a greyscale JPEG as one channel.
+Result<cv::Mat> decodeJpeg(const uint8_t* data, std::size_t size, cv::Size expected, bool keep_grey, int* warnings) {
   if (data == nullptr || size == 0) return makeError("empty JPEG payload");
   if (expected.width <= 0 || expected.height <= 0) return makeError("no image size to decode a JPEG into");
   // Everything that must outlive a jump back here exists before setjmp and is not changed after
@@ -57,7 +56,8 @@ Result<cv::Mat> decodeJpegRgb(const uint8_t* data, std::size_t size, cv::Size ex
   jpeg_mem_src(&info, data, static_cast<unsigned long>(size));
   jpeg_read_header(&info, TRUE);
   info.progress = &progress;
-  info.out_color_space = JCS_RGB;
+  const bool grey = keep_grey && info.jpeg_color_space == JCS_GRAYSCALE;  // read only if no jump comes
+  info.out_color_space = grey ? JCS_GRAYSCALE : JCS_RGB;
   if (static_cast<int>(info.image_width) != expected.width || static_cast<int>(info.image_height) != expected.height) {
     const std::string declared = std::to_string(info.image_width) + "x" + std::to_string(info.image_height);
     jpeg_destroy_decompress(&info);
@@ -65,14 +65,28 @@ Result<cv::Mat> decodeJpegRgb(const uint8_t* data, std::size_t size, cv::Size ex
                      std::to_string(expected.height));
   }
   jpeg_start_decompress(&info);
+  // Grey rows are packed at the start of the RGB buffer (allocated before setjmp, at the most a
+  // decode can need).
+  const std::size_t row_bytes = static_cast<std::size_t>(expected.width) * (grey ? 1 : 3);
   while (info.output_scanline < info.output_height) {
-    JSAMPROW row = rgb.ptr<uint8_t>(static_cast<int>(info.output_scanline));
+    JSAMPROW row = rgb.data + row_bytes * info.output_scanline;
     jpeg_read_scanlines(&info, &row, 1);
   }
   jpeg_finish_decompress(&info);
   jpeg_destroy_decompress(&info);
   if (warnings) *warnings = errors.warnings;
+  if (grey) return cv::Mat(expected, CV_8UC1, rgb.data).clone();
   return rgb;
+}
+
+}  // namespace
+
+Result<cv::Mat> decodeJpegRgb(const uint8_t* data, std::size_t size, cv::Size expected, int* warnings) {
+  return decodeJpeg(data, size, expected, false, warnings);
+}
+
+Result<cv::Mat> decodeJpegRgbOrGrey(const uint8_t* data, std::size_t size, cv::Size expected, int* warnings) {
+  return decodeJpeg(data, size, expected, true, warnings);
 }
 
 }  // namespace semfuse::wire

@@ -11,6 +11,7 @@
 
 #include "semfuse/wire/frame_codec.hpp"
 #include "semfuse/wire/image_convert.hpp"
+#include "semfuse/wire/jpeg_decode.hpp"
 #include "semfuse/wire/validation.hpp"
 
 namespace semfuse::wire {
@@ -140,6 +141,11 @@ Result<cv::Mat> compressedImageToMat(const sensor_msgs_msg_dds__CompressedImage_
   }
   if (Status s = validateImageSize("compressed image", declared.value().width, declared.value().height); !s) {
     return makeError(s.error());
+  }
+  if (jpeg) {
+    auto decoded = decodeJpegRgbOrGrey(msg.data._buffer, msg.data._length, declared.value());
+    if (!decoded) return makeError("compressed image: " + decoded.error());
+    return decoded;
   }
   const cv::Mat payload(1, static_cast<int>(msg.data._length), CV_8UC1, msg.data._buffer);
   cv::Mat decoded;

@@ -26,5 +26,8 @@ inline constexpr int kMaxJpegScans = 100;
 // is not an error, as with cv::imdecode: libjpeg fills what is missing and warns; the warnings
 // are counted in `warnings` when given.
 Result<cv::Mat> decodeJpegRgb(const uint8_t* data, std::size_t size, cv::Size expected, int* warnings = nullptr);
+// The same, except that a greyscale JPEG comes out as CV_8UC1 (ROS compressed images keep their
+// channel count).
+Result<cv::Mat> decodeJpegRgbOrGrey(const uint8_t* data, std::size_t size, cv::Size expected, int* warnings = nullptr);
 
 }  // namespace semfuse::wire
