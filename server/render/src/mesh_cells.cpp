@@ -3,11 +3,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include "leaf_index.hpp"
-
 namespace semfuse::render::detail {
-static_assert(LeafTable::kNone == LeafIndex::kNone);
-
 namespace {
 
 uint16_t observedBit(volume::PackedVoxel v) { return volume::isObserved(v) ? 1 : 0; }

@@ -15,6 +15,7 @@
 
 #include <openvdb/openvdb.h>
 
+#include "leaf_index.hpp"
 #include "semfuse/volume/labeled_volume.hpp"
 
 namespace semfuse::render::detail {
@@ -30,7 +31,7 @@ constexpr int leafOffset(int x, int y, int z) { return (x << 6) | (y << 3) | z; 
 // The geometry leaves in tree order, and each one's 26 neighbours (looked up once, in parallel).
 class LeafTable {
  public:
-  static constexpr uint32_t kNone = UINT32_MAX;  // = LeafIndex::kNone
+  static constexpr uint32_t kNone = LeafIndex::kNone;
 
   explicit LeafTable(const GeometryTree& tree);
   std::size_t size() const { return leaves_.size(); }

@@ -37,26 +37,11 @@ void readVoxelColumns(const CrossingCells::LeafCells& leaf, float* brick, VoxelC
       float* brick_column = brick + CrossingCells::kBrickStride * x + CrossingCells::kBrickDim * y;
       unsigned seen = 0, below = 0;
       if (source.low) {
-        for (int z = 0; z < kTop; ++z) {
-          const auto bits = static_cast<uint64_t>(source.low[z]);
-          seen |= static_cast<unsigned>((bits & 0xFFFF0000u) != 0) << z;
-          below |= static_cast<unsigned>(nonPositiveBits(bits)) << z;
-          brick_column[z] = volume::detail::halfValueBranchless(bits);
-        }
+        for (int z = 0; z < kTop; ++z) readVoxel(static_cast<uint64_t>(source.low[z]), z, brick_column, seen, below);
       } else {
         std::fill(brick_column, brick_column + kTop, 0.0f);
       }
-      if (source.high) {
-        const auto bits = static_cast<uint64_t>(source.high[0]);
-        seen |= static_cast<unsigned>((bits & 0xFFFF0000u) != 0) << kTop;
-        below |= static_cast<unsigned>(nonPositiveBits(bits)) << kTop;
-        brick_column[kTop] = volume::detail::halfValueBranchless(bits);
-      } else {
-        brick_column[kTop] = 0.0f;
-      }
-      columns.observed[x][y] = static_cast<uint16_t>(seen);
-      columns.non_positive[x][y] = static_cast<uint16_t>(seen & below);
-      columns.positive[x][y] = static_cast<uint16_t>(seen & ~below);
+      finishColumn(source, brick_column, seen, below, x, y, columns);
     }
 }
 

@@ -45,4 +45,27 @@ inline ColumnSource columnSource(const CrossingCells::LeafCells& leaf, int x, in
 // ray's crossing test is f <= 0). Exactly the halves that are <= 0 as 16-bit signed integers.
 inline bool nonPositiveBits(uint64_t bits) { return (bits & 0x8000u) != 0 || (bits & 0x7FFFu) == 0; }
 
+// Voxel `bits` as voxel z of a column: bit z of `seen` where it is observed, of `below` where its
+// TSDF bits are <= 0, and its TSDF as float in brick_column[z].
+inline void readVoxel(uint64_t bits, int z, float* brick_column, unsigned& seen, unsigned& below) {
+  seen |= static_cast<unsigned>((bits & 0xFFFF0000u) != 0) << z;
+  below |= static_cast<unsigned>(nonPositiveBits(bits)) << z;
+  brick_column[z] = volume::detail::halfValueBranchless(bits);
+}
+
+// Both readers, once voxels z = 0..7 of column (x, y) are in: voxel z = 8 (from `source.high`; 0
+// and unobserved where that leaf is unallocated), then the column's three bit sets.
+inline void finishColumn(const ColumnSource& source, float* brick_column, unsigned seen, unsigned below, int x, int y,
+                         VoxelColumns& columns) {
+  constexpr int kTop = CrossingCells::kLeafDim;
+  if (source.high) {
+    readVoxel(static_cast<uint64_t>(source.high[0]), kTop, brick_column, seen, below);
+  } else {
+    brick_column[kTop] = 0.0f;
+  }
+  columns.observed[x][y] = static_cast<uint16_t>(seen);
+  columns.non_positive[x][y] = static_cast<uint16_t>(seen & below);
+  columns.positive[x][y] = static_cast<uint16_t>(seen & ~below);
+}
+
 }  // namespace semfuse::render::detail

@@ -42,7 +42,7 @@ SEMFUSE_AVX2 inline void readColumn8(const volume::PackedVoxel* voxels, float* b
 }  // namespace
 
 SEMFUSE_AVX2 void readVoxelColumnsAvx2(const CrossingCells::LeafCells& leaf, float* brick, VoxelColumns& columns) {
-  constexpr int kSpan = VoxelColumns::kSpan, kTop = CrossingCells::kLeafDim;
+  constexpr int kSpan = VoxelColumns::kSpan;
   for (int x = 0; x < kSpan; ++x)
     for (int y = 0; y < kSpan; ++y) {
       const ColumnSource source = columnSource(leaf, x, y);
@@ -53,17 +53,7 @@ SEMFUSE_AVX2 void readVoxelColumnsAvx2(const CrossingCells::LeafCells& leaf, flo
       } else {
         _mm256_storeu_ps(brick_column, _mm256_setzero_ps());
       }
-      if (source.high) {
-        const auto bits = static_cast<uint64_t>(source.high[0]);
-        seen |= static_cast<unsigned>((bits & 0xFFFF0000u) != 0) << kTop;
-        below |= static_cast<unsigned>(nonPositiveBits(bits)) << kTop;
-        brick_column[kTop] = _cvtsh_ss(static_cast<unsigned short>(bits & 0xFFFFu));
-      } else {
-        brick_column[kTop] = 0.0f;
-      }
-      columns.observed[x][y] = static_cast<uint16_t>(seen);
-      columns.non_positive[x][y] = static_cast<uint16_t>(seen & below);
-      columns.positive[x][y] = static_cast<uint16_t>(seen & ~below);
+      finishColumn(source, brick_column, seen, below, x, y, columns);
     }
 }
 
