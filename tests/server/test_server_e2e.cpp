@@ -210,6 +210,17 @@ TEST_F(ServerEndToEnd, RejectsBadInputCountsItAndKeepsServing) {
     ASSERT_TRUE(h.frames().write(encoded.value().msg()).ok());
     ASSERT_TRUE(received(4));
   }
+  {  // JPEG colour cut short: libjpeg alone would decode it with grey where the data ends
+    Frame cut = good;
+    cut.seq = 4;
+    wire::FrameEncoding jpeg;
+    jpeg.color = "jpeg";
+    auto encoded = wire::encodeFrame(cut, jpeg);
+    ASSERT_TRUE(encoded.ok());
+    encoded.value().msg().color._length /= 2;
+    ASSERT_TRUE(h.frames().write(encoded.value().msg()).ok());
+    ASSERT_TRUE(received(5));
+  }
   {  // segmentation for a camera that never sent a frame
     Segmentation stranger = both.value().second;
     stranger.camera_id = "nobody";
@@ -232,16 +243,16 @@ TEST_F(ServerEndToEnd, RejectsBadInputCountsItAndKeepsServing) {
 
   auto status = h.waitStatus(
       [](const auto& s) {
-        return counterOf(s.rejected, "invalid_frame") >= 3 && counterOf(s.rejected, "unknown_camera") >= 1 &&
+        return counterOf(s.rejected, "invalid_frame") >= 4 && counterOf(s.rejected, "unknown_camera") >= 1 &&
                counterOf(s.rejected, "label_out_of_legend") >= 1 && counterOf(s.rejected, "invalid_query") >= 1;
       },
       30s);
   ASSERT_NE(status.get(), nullptr);
-  EXPECT_EQ(counterOf(status->rejected, "invalid_frame"), 3u);
+  EXPECT_EQ(counterOf(status->rejected, "invalid_frame"), 4u);
   EXPECT_EQ(counterOf(status->rejected, "unknown_camera"), 1u);
   EXPECT_EQ(counterOf(status->rejected, "label_out_of_legend"), 1u);
   EXPECT_EQ(counterOf(status->rejected, "invalid_query"), 1u);
-  EXPECT_EQ(status->frames_received, 4u);
+  EXPECT_EQ(status->frames_received, 5u);
   EXPECT_EQ(status->frames_integrated, 1u);
   EXPECT_EQ(counterOf(status->dropped, "sequence_gap"), 0u);
   // Each rejection left a precise message in the status.
@@ -250,12 +261,13 @@ TEST_F(ServerEndToEnd, RejectsBadInputCountsItAndKeepsServing) {
   EXPECT_NE(errors.find("depth"), std::string::npos) << errors;
   EXPECT_NE(errors.find("99"), std::string::npos) << errors;
   EXPECT_NE(errors.find("nobody"), std::string::npos) << errors;
+  EXPECT_NE(errors.find("Premature end of JPEG file"), std::string::npos) << errors;
 
   // Still serving: a good frame is integrated and a normal raycast answered.
   Frame next = good;
-  next.seq = 4;
+  next.seq = 5;
   publishFrame(h, next);
-  ASSERT_TRUE(h.waitPose("cam0", 4, 20s));
+  ASSERT_TRUE(h.waitPose("cam0", 5, 20s));
   auto request = raycastRequest(*good.camera_to_world, good.intrinsics, semfuse_srv_dds__Raycast_Request_Constants_LAYER_DEPTH);
   auto reply = h.raycast().call(request, 20s);
   ASSERT_TRUE(reply.ok()) << reply.error();

@@ -255,6 +255,13 @@ TEST(FrameCodecPayloads, JpegThatDoesNotDecodeOrHasOtherSize) {
   auto other = decodeFrame(msg);
   ASSERT_FALSE(other.ok());
   EXPECT_EQ(other.error(), "color: JPEG declares 20x10, frame declares 64x48");
+
+  // Cut short inside its scan: libjpeg alone would fill the rest of the image with grey.
+  msg.color = saved;
+  msg.color._length = saved._length * 2 / 3;
+  auto cut = decodeFrame(msg);
+  ASSERT_FALSE(cut.ok());
+  EXPECT_EQ(cut.error(), "color: JPEG payload does not decode: damaged data (Premature end of JPEG file)");
   msg.color = saved;
 }
 

@@ -90,34 +90,68 @@ TEST(JpegDecode, BrokenHeadersAreErrorsWithLibjpegsMessage) {
   EXPECT_EQ(cut.error().rfind("JPEG payload does not decode: ", 0), 0u) << cut.error();
 }
 
-TEST(JpegDecode, TruncatedScanDecodesWhatItHasAndWarns) {
-  // As cv::imdecode does: a JPEG cut inside its entropy-coded data still decodes (the rest is
-  // filled in), with a warning instead of an error.
-  const cv::Mat bgr = texturedBgr(64, 64);
-  const auto bytes = encodeJpeg(bgr);
-  const cv::Mat whole = decodeJpegRgb(bytes.data(), bytes.size(), {64, 64}).value();
+TEST(JpegDecode, TruncatedOrDamagedScansAreRefused) {
+  // libjpeg (and cv::imdecode) would decode these, with made-up pixels where data is missing or
+  // damaged, and only warn: the colour a frame would then paint into the map is refused.
+  const auto bytes = encodeJpeg(texturedBgr(64, 64));
+  auto cut = decodeJpegRgb(bytes.data(), bytes.size() * 3 / 4, {64, 64});
+  ASSERT_FALSE(cut.ok());
+  EXPECT_EQ(cut.error(), "JPEG payload does not decode: damaged data (Premature end of JPEG file)");
+  // An end-of-image marker in the middle of the entropy-coded data.
+  std::size_t scan = 0;
+  for (std::size_t i = 0; i + 1 < bytes.size(); ++i)
+    if (bytes[i] == 0xFF && bytes[i + 1] == 0xDA) scan = i;
+  ASSERT_GT(scan, 0u);
+  std::vector<uint8_t> damaged(bytes);
+  const std::size_t middle = scan + (bytes.size() - scan) / 2;
+  damaged.insert(damaged.begin() + static_cast<long>(middle), {0xFF, 0xD9});
+  auto marker = decodeJpegRgb(damaged.data(), damaged.size(), {64, 64});
+  ASSERT_FALSE(marker.ok());
+  EXPECT_EQ(marker.error().rfind("JPEG payload does not decode: damaged data (Corrupt JPEG data", 0), 0u)
+      << marker.error();
+}
+
+TEST(JpegDecode, HarmlessWarningsAreCounted) {
+  // Junk bytes before a marker (here the start of scan): libjpeg skips them with a warning, and the
+  // pixels are those of the clean file.
+  const auto bytes = encodeJpeg(texturedBgr(64, 48));
+  const cv::Mat clean = decodeJpegRgb(bytes.data(), bytes.size(), {64, 48}).value();
+  std::size_t scan = 0;
+  for (std::size_t i = 0; i + 1 < bytes.size() && scan == 0; ++i)
+    if (bytes[i] == 0xFF && bytes[i + 1] == 0xDA) scan = i;
+  ASSERT_GT(scan, 0u);
+  std::vector<uint8_t> padded(bytes);
+  padded.insert(padded.begin() + static_cast<long>(scan), {0x12, 0x34, 0x56});
   int warnings = 0;
-  auto cut = decodeJpegRgb(bytes.data(), bytes.size() * 3 / 4, {64, 64}, &warnings);
-  ASSERT_TRUE(cut.ok()) << cut.error();
-  EXPECT_GT(warnings, 0);
-  // The first MCU rows (16 pixels) were in the payload and are exact.
-  EXPECT_EQ(cv::norm(cut.value().rowRange(0, 16), whole.rowRange(0, 16), cv::NORM_INF), 0.0);
+  auto decoded = decodeJpegRgb(padded.data(), padded.size(), {64, 48}, &warnings);
+  ASSERT_TRUE(decoded.ok()) << decoded.error();
+  EXPECT_EQ(warnings, 1);
+  EXPECT_EQ(cv::norm(decoded.value(), clean, cv::NORM_INF), 0.0);
 }
 
 TEST(JpegDecode, TooManyScansAreRefused) {
-  // A progressive JPEG whose last scan is repeated: libjpeg only warns about the repetition, and
-  // would decode every copy; the scan limit stops it.
+  // A progressive JPEG with one of its first AC scans (Ah = 0: it sets coefficients, so a copy
+  // decodes as cleanly as the original) repeated: libjpeg only warns about the inconsistent
+  // progression, and would decode every copy; the scan limit stops it.
   const auto bytes = encodeJpeg(texturedBgr(32, 32), true);
-  std::size_t last_scan = 0;
-  for (std::size_t i = 0; i + 1 < bytes.size(); ++i)
-    if (bytes[i] == 0xFF && bytes[i + 1] == 0xDA) last_scan = i;
-  ASSERT_GT(last_scan, 0u);
-  ASSERT_EQ(bytes[bytes.size() - 2], 0xFF);
-  ASSERT_EQ(bytes[bytes.size() - 1], 0xD9);  // EOI
-  std::vector<uint8_t> repeated(bytes.begin(), bytes.end() - 2);
+  auto markerAt = [&](std::size_t i) {  // a marker, not a stuffed 0xFF or a restart marker
+    return bytes[i] == 0xFF && bytes[i + 1] != 0x00 && (bytes[i + 1] < 0xD0 || bytes[i + 1] > 0xD7);
+  };
+  std::size_t scan = 0, scan_end = 0;
+  for (std::size_t i = 0; i + 1 < bytes.size() && scan == 0; ++i) {
+    if (!(bytes[i] == 0xFF && bytes[i + 1] == 0xDA)) continue;
+    // SOS: length (2), component count n, 2 n bytes of components, Ss, Se, Ah|Al.
+    const std::size_t spectral = i + 4 + 1 + 2 * bytes[i + 4];
+    if (bytes[spectral] > 0 && (bytes[spectral + 2] >> 4) == 0) scan = i;
+  }
+  ASSERT_GT(scan, 0u);
+  for (std::size_t i = scan + 2; i + 1 < bytes.size() && scan_end == 0; ++i)
+    if (markerAt(i)) scan_end = i;
+  ASSERT_GT(scan_end, scan);
+  std::vector<uint8_t> repeated(bytes.begin(), bytes.begin() + static_cast<long>(scan_end));
   for (int copy = 0; copy < kMaxJpegScans + 20; ++copy)
-    repeated.insert(repeated.end(), bytes.begin() + static_cast<long>(last_scan), bytes.end() - 2);
-  repeated.insert(repeated.end(), {0xFF, 0xD9});
+    repeated.insert(repeated.end(), bytes.begin() + static_cast<long>(scan), bytes.begin() + static_cast<long>(scan_end));
+  repeated.insert(repeated.end(), bytes.begin() + static_cast<long>(scan_end), bytes.end());
   auto decoded = decodeJpegRgb(repeated.data(), repeated.size(), {32, 32});
   ASSERT_FALSE(decoded.ok());
   EXPECT_EQ(decoded.error(), "JPEG payload does not decode: more than 100 scans");

@@ -5,12 +5,15 @@
 #include <string>
 
 #include <jpeglib.h>
+// After jpeglib.h, which it needs.
+#include <jerror.h>
 
 namespace semfuse::wire {
 namespace {
 
 // libjpeg reports a fatal error by calling error_exit, which must not return: it jumps back into
-// decodeJpegRgb. Warnings go to output_message, which would print to stderr; they are counted.
+// decodeJpeg. Warnings go through emit_message, which would print them to stderr; the ones that
+// mean pixels were made up jump back too (damagedData), the others are counted.
 struct ErrorManager {
   jpeg_error_mgr base;  // first: libjpeg sees a jpeg_error_mgr*
   std::jmp_buf jump;
@@ -24,7 +27,39 @@ struct ErrorManager {
   std::longjmp(errors->jump, 1);
 }
 
-void countWarning(j_common_ptr info) { ++reinterpret_cast<ErrorManager*>(info->err)->warnings; }
+// Warnings after which libjpeg goes on with invented data: a payload that ends early (the rest of
+// the image comes out grey) or whose entropy-coded data is damaged. Integrating such colour would
+// paint the map with it, so the frame is refused instead. Not here: extraneous bytes before a
+// marker (some webcams write them), an unknown JFIF revision, a bad ICC profile, and an
+// inconsistent progression (a scan that sends coefficients again, which the scan limit bounds).
+bool damagedData(int code) {
+  switch (code) {
+    case JWRN_JPEG_EOF:
+    case JWRN_HIT_MARKER:
+    case JWRN_HUFF_BAD_CODE:
+    case JWRN_MUST_RESYNC:
+    case JWRN_NOT_SEQUENTIAL:
+#if JPEG_LIB_VERSION >= 70 || defined(C_ARITH_CODING_SUPPORTED) || defined(D_ARITH_CODING_SUPPORTED)
+    case JWRN_ARITH_BAD_CODE:
+#endif
+      return true;
+    default:
+      return false;
+  }
+}
+
+void onMessage(j_common_ptr info, int level) {
+  if (level >= 0) return;  // trace output
+  auto* errors = reinterpret_cast<ErrorManager*>(info->err);
+  if (!damagedData(info->err->msg_code)) {
+    ++errors->warnings;
+    return;
+  }
+  char detail[JMSG_LENGTH_MAX];
+  (*info->err->format_message)(info, detail);
+  std::snprintf(errors->message, sizeof(errors->message), "damaged data (%.150s)", detail);
+  std::longjmp(errors->jump, 1);
+}
 
 void limitScans(j_common_ptr info) {
   const auto* decompress = reinterpret_cast<j_decompress_ptr>(info);
@@ -47,7 +82,7 @@ Result<cv::Mat> decodeJpeg(const uint8_t* data, std::size_t size, cv::Size expec
   progress.progress_monitor = limitScans;
   info.err = jpeg_std_error(&errors.base);
   errors.base.error_exit = jumpOnError;
-  errors.base.output_message = countWarning;
+  errors.base.emit_message = onMessage;
   jpeg_create_decompress(&info);
   if (setjmp(errors.jump)) {
     jpeg_destroy_decompress(&info);

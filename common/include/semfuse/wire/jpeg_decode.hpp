@@ -22,9 +22,11 @@ inline constexpr int kMaxJpegScans = 100;
 // Decodes `size` bytes of JPEG into a CV_8UC3 RGB image of exactly `expected` size (the caller
 // has bounded it: jpegDeclaredSize and the frame's own size). Greyscale JPEGs come out as RGB.
 // A payload that libjpeg cannot decode, that decodes to another size or that has more than
-// kMaxJpegScans scans is an error with libjpeg's message. Truncated or damaged entropy-coded data
-// is not an error, as with cv::imdecode: libjpeg fills what is missing and warns; the warnings
-// are counted in `warnings` when given.
+// kMaxJpegScans scans is an error with libjpeg's message. So is a payload cut short or with
+// damaged entropy-coded data ("JPEG payload does not decode: damaged data (Premature end of JPEG
+// file)"), which cv::imdecode and libjpeg itself would accept, filling in made-up pixels. Other
+// libjpeg warnings (harmless: extraneous bytes before a marker, an unknown JFIF revision) are
+// counted in `warnings` when given.
 Result<cv::Mat> decodeJpegRgb(const uint8_t* data, std::size_t size, cv::Size expected, int* warnings = nullptr);
 // The same, except that a greyscale JPEG comes out as CV_8UC1 (ROS compressed images keep their
 // channel count).
