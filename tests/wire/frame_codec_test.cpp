@@ -234,6 +234,28 @@ TEST(FrameCodecPayloads, PngThatDoesNotDecodeOrHasOtherSize) {
   EXPECT_EQ(wrong_depth.error(), "depth: PNG decodes to 64x48 8UC1, declared 64x48 16UC1");
 }
 
+TEST(FrameCodecPayloads, TruncatedPngsAreRefused) {
+  // Cut inside the image data: no partial image may reach the map, for depth as for colour.
+  FrameEncoding encoding;
+  encoding.depth = "png16";
+  encoding.color = "png";
+  auto encoded = encodeFrame(makeFrame(), encoding);
+  ASSERT_TRUE(encoded.ok());
+  auto& msg = encoded.value().msg();
+  const auto saved_depth = msg.depth, saved_color = msg.color;
+  msg.depth._length = saved_depth._length * 2 / 3;
+  auto depth = decodeFrame(msg);
+  ASSERT_FALSE(depth.ok());
+  EXPECT_EQ(depth.error().rfind("depth: PNG payload does not decode", 0), 0u) << depth.error();
+  msg.depth = saved_depth;
+  msg.color._length = saved_color._length * 2 / 3;
+  auto color = decodeFrame(msg);
+  ASSERT_FALSE(color.ok());
+  EXPECT_EQ(color.error().rfind("color: PNG payload does not decode", 0), 0u) << color.error();
+  msg.color = saved_color;
+  EXPECT_TRUE(decodeFrame(msg).ok());
+}
+
 TEST(FrameCodecPayloads, JpegThatDoesNotDecodeOrHasOtherSize) {
   FrameEncoding encoding;
   encoding.color = "jpeg";
