@@ -10,6 +10,7 @@
 #include "semfuse/core/cli_config.hpp"
 #include "semfuse/core/logging.hpp"
 #include "semfuse/core/thread_name.hpp"
+#include "tbb_worker_names.hpp"
 
 int main(int argc, char** argv) {
   semfuse::server::ServerConfig config;
@@ -36,6 +37,7 @@ int main(int argc, char** argv) {
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
   try {
+    semfuse::server::nameTbbWorkers();  // loading and saving the map run parallel work here
     semfuse::server::FusionServer server(config);
     std::thread signal_thread([&] {
       semfuse::setCurrentThreadName("sf-signals");

@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include "semfuse/core/thread_name.hpp"
+#include "tbb_worker_names.hpp"
 
 namespace semfuse::server {
 
@@ -21,6 +22,7 @@ void FusionLoop::start() {
   running_ = true;
   thread_ = std::thread([this] {
     setCurrentThreadName("sf-fusion");
+    nameTbbWorkers();
     run();
   });
 }

@@ -8,6 +8,7 @@
 #include "semfuse/render/mesh.hpp"
 #include "semfuse/render/ply_writer.hpp"
 #include "semfuse/render/raycast.hpp"
+#include "tbb_worker_names.hpp"
 #include "semfuse/wire/frame_codec.hpp"
 #include "semfuse/wire/image_message.hpp"
 #include "semfuse/wire/validation.hpp"
@@ -39,17 +40,17 @@ Services::Services(const dds::Participant& participant, const ServerConfig& conf
       save_(std::move(save)) {
   namespace topics = dds::topics;
   raycast_server_ = std::make_unique<dds::RpcServer<semfuse_srv_dds__Raycast_Request_, semfuse_srv_dds__Raycast_Response_>>(
-      participant, topics::raycast(), [this](const auto& rq, auto& rp) { raycast(rq, rp); });
+      participant, topics::raycast(), [this](const auto& rq, auto& rp) { nameTbbWorkers(); raycast(rq, rp); });
   labels_at_server_ = std::make_unique<dds::RpcServer<semfuse_srv_dds__LabelsAt_Request_, semfuse_srv_dds__LabelsAt_Response_>>(
-      participant, topics::labelsAt(), [this](const auto& rq, auto& rp) { labelsAt(rq, rp); });
+      participant, topics::labelsAt(), [this](const auto& rq, auto& rp) { nameTbbWorkers(); labelsAt(rq, rp); });
   region_server_ = std::make_unique<dds::RpcServer<semfuse_srv_dds__Region_Request_, semfuse_srv_dds__Region_Response_>>(
-      participant, topics::region(), [this](const auto& rq, auto& rp) { region(rq, rp); });
+      participant, topics::region(), [this](const auto& rq, auto& rp) { nameTbbWorkers(); region(rq, rp); });
   objects_server_ = std::make_unique<dds::RpcServer<semfuse_srv_dds__Objects_Request_, semfuse_srv_dds__Objects_Response_>>(
-      participant, topics::objects(), [this](const auto& rq, auto& rp) { objects(rq, rp); });
+      participant, topics::objects(), [this](const auto& rq, auto& rp) { nameTbbWorkers(); objects(rq, rp); });
   mesh_server_ = std::make_unique<dds::RpcServer<semfuse_srv_dds__Mesh_Request_, semfuse_srv_dds__Mesh_Response_>>(
-      participant, topics::mesh(), [this](const auto& rq, auto& rp) { mesh(rq, rp); });
+      participant, topics::mesh(), [this](const auto& rq, auto& rp) { nameTbbWorkers(); mesh(rq, rp); });
   admin_server_ = std::make_unique<dds::RpcServer<semfuse_srv_dds__Admin_Request_, semfuse_srv_dds__Admin_Response_>>(
-      participant, topics::admin(), [this](const auto& rq, auto& rp) { admin(rq, rp); });
+      participant, topics::admin(), [this](const auto& rq, auto& rp) { nameTbbWorkers(); admin(rq, rp); });
 }
 
 Services::~Services() = default;
