@@ -112,16 +112,16 @@ CallResult<RaycastImages> MapClient::raycast(const Pose& camera_to_world, const 
   request->max_range = max_range;
   auto reply = impl_->raycast.call(*request, timeout);
   if (!reply) return {Failure::kTimeout, reply.error()};
-  const auto& r = *reply.value();
+  auto& r = *reply.value();
   if (!dds::replyOk(r)) {
     return {Failure::kServer, "server error " + std::to_string(r.status) + ": " + std::string(dds::replyMessage(r))};
   }
   RaycastImages images;
-  const std::pair<const sensor_msgs_msg_dds__Image_*, cv::Mat*> layers_out[] = {
+  const std::pair<sensor_msgs_msg_dds__Image_*, cv::Mat*> layers_out[] = {
       {&r.depth, &images.depth}, {&r.normals, &images.normals}, {&r.labels, &images.labels},
       {&r.confidence, &images.confidence}, {&r.color, &images.color}};
   for (const auto& [image, mat] : layers_out) {
-    auto decoded = detail::decodeImage(*image);
+    auto decoded = detail::takeImage(*image);
     if (!decoded) return {Failure::kClient, "raycast reply: " + decoded.error()};
     *mat = std::move(decoded).value();
   }

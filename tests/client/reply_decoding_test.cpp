@@ -1,6 +1,7 @@
 // The client's checks of server replies (client/src/reply_decoding.*): images whose declared size
 // the data cannot hold or no client could allocate, and mesh chunks that do not add up.
 #include <gtest/gtest.h>
+#include <opencv2/core.hpp>
 
 #include <cstring>
 #include <string>
@@ -55,6 +56,65 @@ TEST(ReplyDecoding, ImageSidesBeyondAnyRaycastAreRefusedBeforeAnySizeArithmetic)
       EXPECT_NE(mat.error().find("exceeds"), std::string::npos) << mat.error();
     }
   }
+}
+
+TEST(ReplyDecoding, TakenImageKeepsTheSamplesPixelsWithoutACopy) {
+  cv::Mat mat;
+  const uint8_t* pixels = nullptr;
+  {
+    dds::Sample<sensor_msgs_msg_dds__Image_> image;
+    fill(*image, 4, 3, "32FC1", 4 * 3 * 4);
+    pixels = image->data._buffer;
+    auto taken = takeImage(*image);
+    ASSERT_TRUE(taken.ok()) << taken.error();
+    mat = taken.value();
+    EXPECT_EQ(mat.data, pixels);  // the same buffer, not a copy
+    EXPECT_EQ(image->data._buffer, nullptr);
+    EXPECT_EQ(image->data._length, 0u);
+    EXPECT_FALSE(image->data._release);
+  }  // the sample is freed; the pixels live on in the Mat
+  ASSERT_EQ(mat.rows, 3);
+  ASSERT_EQ(mat.cols, 4);
+  float expected;
+  const uint8_t bytes[4] = {4 * 9 + 0, 4 * 9 + 1, 4 * 9 + 2, 4 * 9 + 3};  // pixel (2, 1) is float 9
+  std::memcpy(&expected, bytes, 4);
+  EXPECT_EQ(mat.at<float>(2, 1), expected);
+  // Shared like any Mat: the last one to go frees the buffer (ASan builds check that it is freed
+  // once); create() to another size takes fresh memory from OpenCV.
+  cv::Mat shared = mat;
+  mat.release();
+  EXPECT_EQ(shared.at<float>(2, 1), expected);
+  shared.create(5, 5, CV_32FC1);
+  shared.setTo(1.0f);
+  EXPECT_EQ(shared.at<float>(4, 4), 1.0f);
+}
+
+TEST(ReplyDecoding, TakenBgrOrUnownedImagesAreCopied) {
+  dds::Sample<sensor_msgs_msg_dds__Image_> bgr;
+  fill(*bgr, 2, 1, "bgr8", 6);  // bytes 0 1 2 | 3 4 5
+  auto swapped = takeImage(*bgr);
+  ASSERT_TRUE(swapped.ok()) << swapped.error();
+  EXPECT_NE(bgr->data._buffer, nullptr);  // still the sample's
+  EXPECT_EQ(swapped.value().at<cv::Vec3b>(0, 1), cv::Vec3b(5, 4, 3));
+
+  dds::Sample<sensor_msgs_msg_dds__Image_> lent;
+  fill(*lent, 2, 2, "16UC1", 8);
+  lent->data._release = false;  // a buffer the sample does not own
+  uint8_t* buffer = lent->data._buffer;
+  auto copied = takeImage(*lent);
+  ASSERT_TRUE(copied.ok()) << copied.error();
+  EXPECT_NE(copied.value().data, buffer);
+  EXPECT_EQ(lent->data._buffer, buffer);
+  lent->data._release = true;  // so that the sample frees it after all
+}
+
+TEST(ReplyDecoding, TakenImageIsCheckedLikeADecodedOne) {
+  dds::Sample<sensor_msgs_msg_dds__Image_> image;
+  fill(*image, 4, 3, "32FC1", 4 * 3 * 4 - 1);
+  auto taken = takeImage(*image);
+  ASSERT_FALSE(taken.ok());
+  EXPECT_NE(taken.error().find("shorter"), std::string::npos) << taken.error();
+  EXPECT_NE(image->data._buffer, nullptr);
 }
 
 void fillChunk(semfuse_srv_dds__Mesh_Response_& reply, uint64_t mesh_id, uint32_t index, uint32_t count,
