@@ -75,18 +75,22 @@ DdsBufferAllocator& ddsBufferAllocator() {
   return allocator;
 }
 
+// The pixels of a checked image, copied row by row into a new Mat (BGR swapped to RGB).
+cv::Mat copyImage(const sensor_msgs_msg_dds__Image_& image, const ImageLayout& l) {
+  cv::Mat mat(l.rows, l.cols, l.type);
+  for (int r = 0; r < l.rows; ++r)
+    std::memcpy(mat.ptr(r), image.data._buffer + r * l.step, static_cast<std::size_t>(l.row_bytes));
+  if (l.bgr) cv::cvtColor(mat, mat, cv::COLOR_BGR2RGB);
+  return mat;
+}
+
 }  // namespace
 
 Result<cv::Mat> decodeImage(const sensor_msgs_msg_dds__Image_& image) {
   if (image.width == 0 || image.height == 0) return cv::Mat();
   auto layout = imageLayout(image);
   if (!layout) return makeError(layout.error());
-  const ImageLayout& l = layout.value();
-  cv::Mat mat(l.rows, l.cols, l.type);
-  for (int r = 0; r < l.rows; ++r)
-    std::memcpy(mat.ptr(r), image.data._buffer + r * l.step, static_cast<std::size_t>(l.row_bytes));
-  if (l.bgr) cv::cvtColor(mat, mat, cv::COLOR_BGR2RGB);
-  return mat;
+  return copyImage(image, layout.value());
 }
 
 Result<cv::Mat> takeImage(sensor_msgs_msg_dds__Image_& image) {
@@ -95,7 +99,7 @@ Result<cv::Mat> takeImage(sensor_msgs_msg_dds__Image_& image) {
   if (!layout) return makeError(layout.error());
   const ImageLayout& l = layout.value();
   // A buffer the sample does not own, or BGR (swapped into a new Mat anyway), is copied.
-  if (!image.data._release || l.bgr) return decodeImage(image);
+  if (!image.data._release || l.bgr) return copyImage(image, l);
   uint8_t* pixels = image.data._buffer;
   cv::Mat mat(l.rows, l.cols, l.type, pixels, static_cast<std::size_t>(l.step));
   auto* storage = new cv::UMatData(&ddsBufferAllocator());

@@ -1,6 +1,7 @@
 #include "services.hpp"
 
 #include <algorithm>
+#include <functional>
 #include <spdlog/spdlog.h>
 
 #include "map_queries.hpp"
@@ -8,10 +9,10 @@
 #include "semfuse/render/mesh.hpp"
 #include "semfuse/render/ply_writer.hpp"
 #include "semfuse/render/raycast.hpp"
-#include "tbb_worker_names.hpp"
 #include "semfuse/wire/frame_codec.hpp"
 #include "semfuse/wire/image_message.hpp"
 #include "semfuse/wire/validation.hpp"
+#include "tbb_worker_names.hpp"
 
 namespace semfuse::server {
 namespace {
@@ -32,6 +33,17 @@ Status validBox(const Eigen::Vector3d& min, const Eigen::Vector3d& max) {
   if ((max.array() < min.array()).any()) return makeError("box max must be >= min on every axis");
   return Status::Ok();
 }
+
+// A service's handler, run on that service's own thread (dds::RpcServer): the TBB workers that
+// help that thread are named first (tbb_worker_names.hpp).
+template <class Request, class Reply>
+std::function<void(const Request&, Reply&)> onServiceThread(Services* services,
+                                                            void (Services::*handle)(const Request&, Reply&)) {
+  return [services, handle](const Request& request, Reply& reply) {
+    nameTbbWorkers();
+    (services->*handle)(request, reply);
+  };
+}
 }  // namespace
 
 Services::Services(const dds::Participant& participant, const ServerConfig& config, Mapper& mapper,
@@ -40,17 +52,17 @@ Services::Services(const dds::Participant& participant, const ServerConfig& conf
       save_(std::move(save)) {
   namespace topics = dds::topics;
   raycast_server_ = std::make_unique<dds::RpcServer<semfuse_srv_dds__Raycast_Request_, semfuse_srv_dds__Raycast_Response_>>(
-      participant, topics::raycast(), [this](const auto& rq, auto& rp) { nameTbbWorkers(); raycast(rq, rp); });
+      participant, topics::raycast(), onServiceThread(this, &Services::raycast));
   labels_at_server_ = std::make_unique<dds::RpcServer<semfuse_srv_dds__LabelsAt_Request_, semfuse_srv_dds__LabelsAt_Response_>>(
-      participant, topics::labelsAt(), [this](const auto& rq, auto& rp) { nameTbbWorkers(); labelsAt(rq, rp); });
+      participant, topics::labelsAt(), onServiceThread(this, &Services::labelsAt));
   region_server_ = std::make_unique<dds::RpcServer<semfuse_srv_dds__Region_Request_, semfuse_srv_dds__Region_Response_>>(
-      participant, topics::region(), [this](const auto& rq, auto& rp) { nameTbbWorkers(); region(rq, rp); });
+      participant, topics::region(), onServiceThread(this, &Services::region));
   objects_server_ = std::make_unique<dds::RpcServer<semfuse_srv_dds__Objects_Request_, semfuse_srv_dds__Objects_Response_>>(
-      participant, topics::objects(), [this](const auto& rq, auto& rp) { nameTbbWorkers(); objects(rq, rp); });
+      participant, topics::objects(), onServiceThread(this, &Services::objects));
   mesh_server_ = std::make_unique<dds::RpcServer<semfuse_srv_dds__Mesh_Request_, semfuse_srv_dds__Mesh_Response_>>(
-      participant, topics::mesh(), [this](const auto& rq, auto& rp) { nameTbbWorkers(); mesh(rq, rp); });
+      participant, topics::mesh(), onServiceThread(this, &Services::mesh));
   admin_server_ = std::make_unique<dds::RpcServer<semfuse_srv_dds__Admin_Request_, semfuse_srv_dds__Admin_Response_>>(
-      participant, topics::admin(), [this](const auto& rq, auto& rp) { nameTbbWorkers(); admin(rq, rp); });
+      participant, topics::admin(), onServiceThread(this, &Services::admin));
 }
 
 Services::~Services() = default;
