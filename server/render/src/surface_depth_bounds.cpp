@@ -17,50 +17,84 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 // Camera depth below which a corner counts as "at or behind the camera plane": its projection is
 // unbounded, so the box cannot be reduced to a pixel rectangle.
 constexpr double kMinProjectableDepth = 1e-6;
-// Leaves are judged in blocks of 4^3 cells: smaller blocks give tighter boxes but more of them to
-// project and rasterise.
+// Leaves are judged in blocks of 2^3 cells: smaller blocks give tighter boxes but more of them to
+// project and rasterise (1^3 and 4^3 both cost more than they save).
 constexpr int kBlockDim = 2;
 constexpr int kBlocksPerLeafAxis = CrossingCells::kLeafDim / kBlockDim;
 constexpr int kBlocksPerLeaf = kBlocksPerLeafAxis * kBlocksPerLeafAxis * kBlocksPerLeafAxis;
-// The boxes are exact; the margins (voxels) only absorb the rounding of the stored float bounds.
+// The boxes are exact; the margins (voxels) only absorb rounding: of the float boxes, slabs and
+// depths here, and of the rays' float trilinear values.
 constexpr double kNearMarginVoxels = 0.05;
 constexpr double kFarMarginVoxels = 0.05;
+constexpr float kBoxMarginVoxels = 0.01f;
+// Added to the near bound (and taken from the far bound) of a ray that misses a box.
+constexpr float kBeyondAnyDepth = 1e30f;
 
-// Index-space box of the crossing cells in one block: cells lo..hi span [lo, hi + 1].
-struct CellBox {
-  int lo[3], hi[3];
+// Leaf-local index-space box (voxel units) that holds every point of a block's crossing cells
+// where the trilinear TSDF is <= 0. A ray's crossing lies there.
+struct SurfaceBox {
+  float lo[3], hi[3];
 };
 
-// The tight box of the crossing cells in the 4^3 block at leaf-local (x0, y0, z0); false when
-// the block has none. Word x of the mask holds bit 8 y + z.
-bool crossingBox(const CrossingCells::LeafCells& leaf, int x0, int y0, int z0, CellBox& box) {
-  const uint64_t row = ((uint64_t{1} << kBlockDim) - 1) << z0;  // z0..z0+3 of one y row
-  uint64_t square = 0;
-  for (int y = y0; y < y0 + kBlockDim; ++y) square |= row << (8 * y);
-  uint64_t any = 0;
-  int x_lo = -1, x_hi = -1;
-  for (int x = x0; x < x0 + kBlockDim; ++x) {
-    const uint64_t bits = leaf.crossing[x] & square;
-    if (bits == 0) continue;
-    if (x_lo < 0) x_lo = x;
-    x_hi = x;
-    any |= bits;
+// The part of [0, 1] where the linear interpolant from a (at 0) to b (at 1) is <= 0, for the 4
+// edges of a cell along one axis at once (4 float lanes): [lo, hi], empty (lo > hi) when none.
+void nonPositiveSpan(const Eigen::Array4f& a, const Eigen::Array4f& b, float& lo, float& hi) {
+  constexpr float kInfF = std::numeric_limits<float>::infinity();
+  const Eigen::Array4f crossing = a / (a - b);  // used only where the signs differ (then a != b)
+  const auto a_below = a <= 0.0f, b_below = b <= 0.0f;
+  lo = a_below.select(Eigen::Array4f::Zero(), b_below.select(crossing, Eigen::Array4f::Constant(kInfF))).minCoeff();
+  hi = b_below.select(Eigen::Array4f::Ones(), a_below.select(crossing, Eigen::Array4f::Constant(-kInfF))).maxCoeff();
+}
+
+// The box of the non-positive points of the crossing cells in the 2^3 block at leaf-local
+// (x0, y0, z0); false when the block has none. In a cell, the trilinear TSDF on the slice at a
+// fixed position along one axis is bilinear in the other two, so its least value lies on one of
+// the 4 cell edges along that axis: the slice holds a non-positive point only where one of those
+// edges is non-positive. So, per axis, the non-positive points of the cell lie within the union of
+// the non-positive spans of its 4 edges along that axis: a box that is much thinner than the
+// cell where the surface runs close to a voxel plane (a ray that grazes such a surface just above
+// it then starts right at it, instead of a voxel or two higher, which along a shallow ray is many
+// voxels earlier).
+bool surfaceBox(const CrossingCells::LeafCells& leaf, int x0, int y0, int z0, SurfaceBox& box) {
+  constexpr int kX = CrossingCells::kBrickStride, kY = CrossingCells::kBrickDim;
+  if (!((leaf.blocks2 >> (((x0 >> 1) << 4) | ((y0 >> 1) << 2) | (z0 >> 1))) & 1u)) return false;
+  bool any = false;
+  for (int a = 0; a < 3; ++a) {
+    box.lo[a] = std::numeric_limits<float>::infinity();
+    box.hi[a] = -box.lo[a];
   }
-  if (any == 0) return false;
-  const int low_bit = __builtin_ctzll(any), high_bit = 63 - __builtin_clzll(any);
-  unsigned z_bits = 0;  // OR of the block's y rows
-  for (int y = y0; y < y0 + kBlockDim; ++y) z_bits |= static_cast<unsigned>(any >> (8 * y)) & 0xFFu;
-  box.lo[0] = x_lo;
-  box.hi[0] = x_hi;
-  box.lo[1] = low_bit >> 3;
-  box.hi[1] = high_bit >> 3;
-  box.lo[2] = __builtin_ctz(z_bits);
-  box.hi[2] = 31 - __builtin_clz(z_bits);
+  for (int x = x0; x < x0 + kBlockDim; ++x)
+    for (int y = y0; y < y0 + kBlockDim; ++y)
+      for (int z = z0; z < z0 + kBlockDim; ++z) {
+        if (!leaf.isCrossing(x, y, z)) continue;
+        any = true;
+        const float* c = leaf.tsdf + kX * x + kY * y + z;
+        // Corners k = dx + 2 dy + 4 dz.
+        const Eigen::Array4f low_x(c[0], c[kY], c[1], c[kY + 1]), high_x(c[kX], c[kX + kY], c[kX + 1], c[kX + kY + 1]);
+        const Eigen::Array4f low_y(c[0], c[kX], c[1], c[kX + 1]), high_y(c[kY], c[kX + kY], c[kY + 1], c[kX + kY + 1]);
+        const Eigen::Array4f low_z(c[0], c[kX], c[kY], c[kX + kY]), high_z(c[1], c[kX + 1], c[kY + 1], c[kX + kY + 1]);
+        const Eigen::Array4f* lows[3] = {&low_x, &low_y, &low_z};
+        const Eigen::Array4f* highs[3] = {&high_x, &high_y, &high_z};
+        const int cell[3] = {x, y, z};
+        for (int axis = 0; axis < 3; ++axis) {
+          float lo, hi;
+          nonPositiveSpan(*lows[axis], *highs[axis], lo, hi);
+          if (lo > hi) continue;  // (cannot happen in a crossing cell: it has a non-positive corner)
+          box.lo[axis] = std::min(box.lo[axis], cell[axis] + lo);
+          box.hi[axis] = std::max(box.hi[axis], cell[axis] + hi);
+        }
+      }
+  if (!any) return false;
+  // A hair wider: the rays' trilinear values are rounded floats.
+  for (int a = 0; a < 3; ++a) {
+    box.lo[a] -= kBoxMarginVoxels;
+    box.hi[a] += kBoxMarginVoxels;
+  }
   return true;
 }
 
 // What the blocks seen by one thread contribute: inclusive rectangles of pixel centres with their
-// depth intervals, and the far end of the boxes that reach behind the camera plane (they cannot
+// boxes, and the far end of the boxes that reach behind the camera plane (they cannot
 // be projected and open every pixel).
 struct Footprints {
   std::vector<SurfaceDepthBounds::Rect> rects;
@@ -92,13 +126,14 @@ SurfaceDepthBounds::SurfaceDepthBounds(const CrossingCells& cells, double voxel,
         const int x0 = (block / (kBlocksPerLeafAxis * kBlocksPerLeafAxis)) * kBlockDim;
         const int y0 = (block / kBlocksPerLeafAxis % kBlocksPerLeafAxis) * kBlockDim;
         const int z0 = (block % kBlocksPerLeafAxis) * kBlockDim;
-        CellBox box;
-        if (!crossingBox(leaf, x0, y0, z0, box)) continue;
+        SurfaceBox box;
+        if (!surfaceBox(leaf, x0, y0, z0, box)) continue;
         ++out.blocks;
-        const openvdb::Coord o = leaf.origin.offsetBy(box.lo[0], box.lo[1], box.lo[2]);
-        const Eigen::Vector3d base = world_to_camera * (Eigen::Vector3d(o.x(), o.y(), o.z()) * s - camera_origin);
-        const Eigen::Vector3d edge_x = ex * (box.hi[0] - box.lo[0] + 1), edge_y = ey * (box.hi[1] - box.lo[1] + 1),
-                              edge_z = ez * (box.hi[2] - box.lo[2] + 1);
+        const Eigen::Vector3d low(leaf.origin.x() + double{box.lo[0]}, leaf.origin.y() + double{box.lo[1]},
+                                  leaf.origin.z() + double{box.lo[2]});
+        const Eigen::Vector3d base = world_to_camera * (low * s - camera_origin);
+        const Eigen::Vector3d edge_x = ex * double{box.hi[0] - box.lo[0]}, edge_y = ey * double{box.hi[1] - box.lo[1]},
+                              edge_z = ez * double{box.hi[2] - box.lo[2]};
         double z_min = std::numeric_limits<double>::infinity(), z_max = -z_min;
         double u_min = z_min, u_max = z_max, v_min = z_min, v_max = z_max;
         bool projectable = true;
@@ -130,8 +165,12 @@ SurfaceDepthBounds::SurfaceDepthBounds(const CrossingCells& cells, double voxel,
         const double u0 = std::max(std::ceil(u_min), 0.0), u1 = std::min(std::floor(u_max), k.width - 1.0);
         const double v0 = std::max(std::ceil(v_min), 0.0), v1 = std::min(std::floor(v_max), k.height - 1.0);
         if (u0 > u1 || v0 > v1) continue;
-        out.rects.push_back({static_cast<int>(u0), static_cast<int>(u1), static_cast<int>(v0), static_cast<int>(v1),
-                             static_cast<float>(std::max(z_min, min_depth) - near_margin), far});
+        Rect r{static_cast<int>(u0), static_cast<int>(u1), static_cast<int>(v0), static_cast<int>(v1), {}, {}};
+        for (int a = 0; a < 3; ++a) {
+          r.low[a] = static_cast<float>(low[a] * s - camera_origin[a]);
+          r.high[a] = static_cast<float>((leaf.origin[a] + double{box.hi[a]}) * s - camera_origin[a]);
+        }
+        out.rects.push_back(r);
       }
     }
   });
@@ -147,6 +186,15 @@ SurfaceDepthBounds::SurfaceDepthBounds(const CrossingCells& cells, double voxel,
       for (int band = r.v0 / kBandRows; band <= r.v1 / kBandRows; ++band) ++band_start_[band + 1];
   }
   open_near_ = open_far_ > -kInf ? static_cast<float>(min_depth - near_margin) : kInf;
+  near_margin_ = static_cast<float>(near_margin);
+  far_margin_ = static_cast<float>(far_margin);
+  // The world direction of pixel (u, v)'s ray, per unit of camera depth, is linear in u and v.
+  const Eigen::Matrix3d& rotation = camera_to_world.linear();
+  for (int a = 0; a < 3; ++a) {
+    ray_du_[a] = rotation(a, 0) / k.fx;
+    ray_dv_[a] = rotation(a, 1) / k.fy;
+    ray_at_origin_[a] = rotation(a, 2) - rotation(a, 0) * k.cx / k.fx - rotation(a, 1) * k.cy / k.fy;
+  }
   for (std::size_t band = 0; band + 1 < band_start_.size(); ++band) band_start_[band + 1] += band_start_[band];
   footprints_.resize(band_start_.back());
   std::vector<std::size_t> next(band_start_.begin(), band_start_.end() - 1);
@@ -162,15 +210,44 @@ void SurfaceDepthBounds::rasterizeBand(int band, BandBounds& out) const {
   const std::size_t pixels = static_cast<std::size_t>(rows) * width_;
   out.near_.assign(pixels, open_near_);
   out.far_.assign(pixels, open_far_);
+  // Per pixel and world axis, the inverse of the ray's direction component (depth per metre along
+  // that axis), kept finite: a ray parallel to an axis gets a huge value of either sign, which puts
+  // a box's slab on that axis either around all depths or beyond any.
+  out.inverse_direction_.resize(3 * pixels);
+  for (int a = 0; a < 3; ++a)
+    for (int v = out.v_begin_; v < out.v_begin_ + rows; ++v) {
+      float* row = out.inverse_direction_.data() + a * pixels + static_cast<std::size_t>(v - out.v_begin_) * width_;
+      for (int u = 0; u < width_; ++u) {
+        const double w = ray_du_[a] * u + ray_dv_[a] * v + ray_at_origin_[a];
+        row[u] = static_cast<float>(1.0 / (std::abs(w) < 1e-12 ? std::copysign(1e-12, w) : w));
+      }
+    }
+  const float near_margin = near_margin_, far_margin = far_margin_;
   for (std::size_t i = band_start_[band]; i < band_start_[band + 1]; ++i) {
     const Rect& f = footprints_[i];
+    // Locals, so that the compiler can keep them in registers across the stores into the rows
+    // (and vectorise the loop over u).
+    const float lx = f.low[0], hx = f.high[0], ly = f.low[1], hy = f.high[1], lz = f.low[2], hz = f.high[2];
     const int v0 = std::max(f.v0, out.v_begin_), v1 = std::min(f.v1, out.v_begin_ + rows - 1);
     for (int v = v0; v <= v1; ++v) {
-      float* near_row = out.near_.data() + static_cast<std::size_t>(v - out.v_begin_) * width_;
-      float* far_row = out.far_.data() + static_cast<std::size_t>(v - out.v_begin_) * width_;
+      const std::size_t row_start = static_cast<std::size_t>(v - out.v_begin_) * width_;
+      float* __restrict near_row = out.near_.data() + row_start;
+      float* __restrict far_row = out.far_.data() + row_start;
+      const float* __restrict inv_x = out.inverse_direction_.data() + row_start;
+      const float* __restrict inv_y = inv_x + pixels;
+      const float* __restrict inv_z = inv_y + pixels;
       for (int u = f.u0; u <= f.u1; ++u) {
-        near_row[u] = std::min(near_row[u], f.near);
-        far_row[u] = std::max(far_row[u], f.far);
+        // The ray's depths inside the box: the overlap of its three slabs.
+        const float x0 = lx * inv_x[u], x1 = hx * inv_x[u];
+        const float y0 = ly * inv_y[u], y1 = hy * inv_y[u];
+        const float z0 = lz * inv_z[u], z1 = hz * inv_z[u];
+        const float enter = std::max(std::max(std::min(x0, x1), std::min(y0, y1)), std::min(z0, z1));
+        const float leave = std::min(std::min(std::max(x0, x1), std::max(y0, y1)), std::max(z0, z1));
+        // A ray that misses the box gets a near bound far beyond and a far bound far before any
+        // depth (arithmetic rather than a branch, so that the loop vectorises).
+        const float missed = static_cast<float>(enter > leave) * kBeyondAnyDepth;
+        near_row[u] = std::min(near_row[u], enter - near_margin + missed);
+        far_row[u] = std::max(far_row[u], leave + far_margin - missed);
       }
     }
   }

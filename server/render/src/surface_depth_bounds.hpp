@@ -1,19 +1,20 @@
 #pragma once
 // Per-pixel camera-depth bounds of where a surface can be, for raycast(). Internal.
 //
-// A ray can only report the surface inside a crossing cell (CrossingCells). Each 4^3 block of
-// cells of a leaf that holds crossing cells is reduced to the tight box of those cells, the box is
-// projected into the image, and every pixel centre its projection covers keeps the smallest and
-// largest camera depth of the boxes over it. A ray then starts where the nearest box over its
-// pixel begins and stops where the farthest ends: the free space in front of the surface needs
-// no marching at all. Tight boxes rather than whole blocks: a block seen obliquely spans several
-// voxels of depth in front of the surface it holds (a floor on the lowest voxel layer of a block
-// would otherwise start its rays up to 4 voxels above it, 12 along a ray at 20 degrees).
+// A ray can only report the surface inside a crossing cell (CrossingCells), at a point where the
+// trilinear TSDF is <= 0. Each 2^3 block of cells of a leaf that holds crossing cells is reduced
+// to the box of those points (the non-positive part of each crossing cell, bounded from its
+// edges: see surfaceBox in the .cpp), and every pixel whose ray passes through the box keeps the
+// smallest depth at which its ray enters such a box and the largest at which it leaves one. A ray
+// then walks only from the first entry to the last exit: neither the free space in front of the
+// surface nor, mostly, the positive side of the crossing cells just in front of it.
 //
-// Conservative by construction (the projection of a box in front of the camera lies inside the
-// rectangle of its projected corners); a box that reaches behind the camera plane opens every
-// pixel from the near clip on. The rectangles are filed per band of image rows, and each band's
-// per-pixel bounds are filled just before its rows are marched, by the thread that marches them.
+// Each box is projected to the rectangle of its projected corners and filed per band of image
+// rows; just before a band is marched, the thread that marches it intersects each pixel's ray in
+// the rectangles over it with the box (three slabs, from per-pixel inverse ray directions: a few
+// vector operations per pixel). Conservative by construction (up to float rounding, which the
+// margins absorb); a box that reaches behind the camera plane opens every pixel from the near
+// clip on.
 #include <cstddef>
 #include <vector>
 
@@ -24,7 +25,7 @@
 namespace semfuse::render::detail {
 
 // Per-pixel bounds of one band of image rows, filled by SurfaceDepthBounds::rasterizeBand. A
-// band is small (its two buffers stay in cache while its rows are marched) and reused from band
+// band is small (its buffers stay in cache while its rows are marched) and reused from band
 // to band by the thread that marches them, so the bounds of a whole image are never held at once.
 class BandBounds {
  public:
@@ -44,6 +45,7 @@ class BandBounds {
   int width_ = 0;
   std::vector<float> near_;  // +inf where no surface box covers the pixel
   std::vector<float> far_;   // -inf there
+  std::vector<float> inverse_direction_;  // scratch of rasterizeBand: per world axis, per pixel
 };
 
 class SurfaceDepthBounds {
@@ -60,12 +62,12 @@ class SurfaceDepthBounds {
   // Fills `out` with the bounds of every pixel of rows [band * kBandRows, ... + kBandRows).
   void rasterizeBand(int band, BandBounds& out) const;
 
-  // How many 4^3 blocks hold a crossing cell (for tests and benchmarks).
+  // How many 2^3 blocks hold a crossing cell (for tests and benchmarks).
   std::size_t surfaceBlocks() const { return surface_blocks_; }
 
-  struct Rect {  // inclusive pixel-centre rectangle of one projected box, with its depth interval
+  struct Rect {  // inclusive pixel-centre rectangle of one projected box, and the box itself
     int u0, u1, v0, v1;
-    float near, far;
+    float low[3], high[3];  // world box minus the camera centre, metres
   };
 
  private:
@@ -76,6 +78,9 @@ class SurfaceDepthBounds {
   float open_near_ = 0.0f;               // every pixel's interval includes [open_near_, open_far_]
   float open_far_ = 0.0f;                // (empty, +inf > -inf, unless a box reaches behind the camera)
   std::size_t surface_blocks_ = 0;
+  float near_margin_ = 0.0f, far_margin_ = 0.0f;
+  // Pixel (u, v)'s ray direction per unit of camera depth, world frame: du u + dv v + at_origin.
+  double ray_du_[3] = {}, ray_dv_[3] = {}, ray_at_origin_[3] = {};
 };
 
 }  // namespace semfuse::render::detail
