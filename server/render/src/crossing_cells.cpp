@@ -1,8 +1,11 @@
 #include "crossing_cells.hpp"
 
 #include <algorithm>
+#include <limits>
 
+#include <Eigen/Core>
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include "semfuse/render/raycast.hpp"
@@ -90,6 +93,85 @@ void summarizeBlocks(LeafCells& leaf) {
         leaf.blocks2 |= uint64_t{1} << (((x >> 1) << 4) | (by << 2) | bz);
         leaf.blocks4 |= static_cast<uint8_t>(1u << (((x >> 2) << 2) | ((by >> 1) << 1) | (bz >> 1)));
       }
+  }
+}
+
+// Surface boxes are widened by this much (voxels) on every side.
+constexpr float kBoxMarginVoxels = 0.01f;
+
+// The part of [0, 1] where the linear interpolant from a (at 0) to b (at 1) is <= 0, for the 4
+// edges of a cell along one axis at once (4 float lanes): [lo, hi], empty (lo > hi) when none.
+void nonPositiveSpan(const Eigen::Array4f& a, const Eigen::Array4f& b, float& lo, float& hi) {
+  constexpr float kInfF = std::numeric_limits<float>::infinity();
+  const Eigen::Array4f crossing = a / (a - b);  // used only where the signs differ (then a != b)
+  const auto a_below = a <= 0.0f, b_below = b <= 0.0f;
+  lo = a_below.select(Eigen::Array4f::Zero(), b_below.select(crossing, Eigen::Array4f::Constant(kInfF))).minCoeff();
+  hi = b_below.select(Eigen::Array4f::Ones(), a_below.select(crossing, Eigen::Array4f::Constant(-kInfF))).maxCoeff();
+}
+
+// The box of the non-positive points of the crossing cells in the 2^3 block at leaf-local
+// (x0, y0, z0) (which holds at least one), leaf-local. In a cell, the trilinear TSDF on the slice at a
+// fixed position along one axis is bilinear in the other two, so its least value lies on one of
+// the 4 cell edges along that axis: the slice holds a non-positive point only where one of those
+// edges is non-positive. So, per axis, the non-positive points of the cell lie within the union of
+// the non-positive spans of its 4 edges along that axis: a box that is much thinner than the
+// cell where the surface runs close to a voxel plane (a ray that grazes such a surface just above
+// it then starts right at it, instead of a voxel or two higher, which along a shallow ray is many
+// voxels earlier).
+// Per axis, the corners k = dx + 2 dy + 4 dz of a cell's face at 0 along it (as a mask and as a
+// list); the face at 1 holds the same corners plus that axis' bit.
+constexpr unsigned kLowerFace[3] = {0x55u, 0x33u, 0x0Fu};
+constexpr int kLowerFaceCorners[3][4] = {{0, 2, 4, 6}, {0, 1, 4, 5}, {0, 1, 2, 3}};
+
+SurfaceBox surfaceBox(const LeafCells& leaf, int x0, int y0, int z0) {
+  constexpr int kX = CrossingCells::kBrickStride, kY = CrossingCells::kBrickDim;
+  constexpr int kBlockDim = CrossingCells::kSurfaceBlockDim;
+  SurfaceBox box;
+  for (int a = 0; a < 3; ++a) {
+    box.lo[a] = std::numeric_limits<float>::infinity();
+    box.hi[a] = -box.lo[a];
+  }
+  for (int x = x0; x < x0 + kBlockDim; ++x)
+    for (int y = y0; y < y0 + kBlockDim; ++y)
+      for (int z = z0; z < z0 + kBlockDim; ++z) {
+        if (!leaf.isCrossing(x, y, z)) continue;
+        const float* c = leaf.tsdf + kX * x + kY * y + z;
+        // Corners k = dx + 2 dy + 4 dz.
+        const float v[8] = {c[0], c[kX], c[kY], c[kX + kY], c[1], c[kX + 1], c[kY + 1], c[kX + kY + 1]};
+        unsigned below = 0;  // bit k: corner k <= 0
+        for (int k = 0; k < 8; ++k) below |= static_cast<unsigned>(v[k] <= 0.0f) << k;
+        const int cell[3] = {x, y, z};
+        for (int axis = 0; axis < 3; ++axis) {
+          const int along = 1 << axis;
+          float lo = 0.0f, hi = 1.0f;
+          // Most often both faces across the axis have a non-positive corner: the whole span,
+          // with no division.
+          if (!(below & kLowerFace[axis]) || !(below & ~kLowerFace[axis] & 0xFFu)) {
+            const int* lower = kLowerFaceCorners[axis];
+            nonPositiveSpan(Eigen::Array4f(v[lower[0]], v[lower[1]], v[lower[2]], v[lower[3]]),
+                            Eigen::Array4f(v[lower[0] | along], v[lower[1] | along], v[lower[2] | along],
+                                           v[lower[3] | along]),
+                            lo, hi);
+          }
+          box.lo[axis] = std::min(box.lo[axis], cell[axis] + lo);
+          box.hi[axis] = std::max(box.hi[axis], cell[axis] + hi);
+        }
+      }
+  return box;
+}
+
+// The surface boxes of a leaf (crossing masks and brick done), in index space, onto `out`.
+void addSurfaceBoxes(const LeafCells& leaf, std::vector<SurfaceBox>& out) {
+  static_assert(CrossingCells::kSurfaceBlockDim == 2, "blocks2 has one bit per 2^3 block");
+  for (uint64_t blocks = leaf.blocks2; blocks != 0; blocks &= blocks - 1) {
+    const int bit = __builtin_ctzll(blocks);  // 16 bx + 4 by + bz
+    SurfaceBox box = surfaceBox(leaf, 2 * (bit >> 4), 2 * ((bit >> 2) & 3), 2 * (bit & 3));
+    // A hair wider: the rays' trilinear values are rounded floats.
+    for (int a = 0; a < 3; ++a) {
+      box.lo[a] += static_cast<float>(leaf.origin[a]) - kBoxMarginVoxels;
+      box.hi[a] += static_cast<float>(leaf.origin[a]) + kBoxMarginVoxels;
+    }
+    out.push_back(box);
   }
 }
 
@@ -185,8 +267,11 @@ void CrossingCells::findCrossings() {
     if (leaves_[i].in_view) brick_of[i] = bricks++;
   bricks_.reset(new float[static_cast<std::size_t>(bricks) * kBrickSize]);
   const auto read_columns = raycastKernel() == RaycastKernel::kAvx2 ? &readVoxelColumnsAvx2 : &readVoxelColumns;
+  // The surface boxes are found right after each brick is written, while it is in cache.
+  tbb::enumerable_thread_specific<std::vector<SurfaceBox>> boxes;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves_.size(), 64), [&](const auto& range) {
     VoxelColumns columns;
+    std::vector<SurfaceBox>& leaf_boxes = boxes.local();
     for (std::size_t i = range.begin(); i < range.end(); ++i) {
       LeafCells& leaf = leaves_[i];
       if (!leaf.in_view) continue;
@@ -195,8 +280,11 @@ void CrossingCells::findCrossings() {
       leaf.crossing = crossingMask(columns);
       leaf.tsdf = brick;
       summarizeBlocks(leaf);
+      addSurfaceBoxes(leaf, leaf_boxes);
     }
   });
+  surface_boxes_.clear();
+  for (const auto& part : boxes) surface_boxes_.insert(surface_boxes_.end(), part.begin(), part.end());
 }
 
 }  // namespace semfuse::render::detail

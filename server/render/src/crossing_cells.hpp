@@ -25,6 +25,13 @@
 
 namespace semfuse::render::detail {
 
+// Index-space box (voxel units; voxel (i, j, k) at (i, j, k)) that holds every point of the
+// crossing cells of one 2^3 block of cells where the trilinear TSDF is <= 0: a ray's crossing in
+// that block lies inside it.
+struct SurfaceBox {
+  float lo[3], hi[3];
+};
+
 class CrossingCells {
  public:
   using Leaf = volume::GeometryGrid::TreeType::LeafNodeType;
@@ -86,9 +93,13 @@ class CrossingCells {
   // `camera_to_world` between min_depth and max_depth. Parallel (TBB).
   CrossingCells(const volume::LabeledVolume& volume, const PinholeIntrinsics& k, const Pose& camera_to_world,
                 double min_depth, double max_depth, Options options);
-  // Computes the crossing masks and TSDF bricks of the leaves in view (parallel); reads only
-  // their voxels (or the copies), not the volume.
+  // Computes the crossing masks, TSDF bricks and surface boxes of the leaves in view
+  // (parallel); reads only their voxels (or the copies), not the volume.
   void findCrossings();
+  static constexpr int kSurfaceBlockDim = 2;  // cells per axis of the blocks with a SurfaceBox
+  // One box per 2^3 block of cells, of the leaves in view, that holds a crossing cell (in no
+  // particular order). Empty until findCrossings().
+  const std::vector<SurfaceBox>& surfaceBoxes() const { return surface_boxes_; }
 
   // The leaf whose origin is `origin` (a multiple of 8 on each axis), or null where unallocated.
   const LeafCells* find(const openvdb::Coord& origin) const {
@@ -104,6 +115,7 @@ class CrossingCells {
   // kBrickSize per leaf in view, in leaf order; uninitialised until findCrossings() writes them
   // (a std::vector would zero ~12 MB per raycast first).
   std::unique_ptr<float[]> bricks_;
+  std::vector<SurfaceBox> surface_boxes_;
   LeafIndex index_;  // origin -> position in leaves_
 };
 

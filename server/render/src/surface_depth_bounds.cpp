@@ -17,81 +17,15 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 // Camera depth below which a corner counts as "at or behind the camera plane": its projection is
 // unbounded, so the box cannot be reduced to a pixel rectangle.
 constexpr double kMinProjectableDepth = 1e-6;
-// Leaves are judged in blocks of 2^3 cells: smaller blocks give tighter boxes but more of them to
-// project and rasterise (1^3 and 4^3 both cost more than they save).
-constexpr int kBlockDim = 2;
-constexpr int kBlocksPerLeafAxis = CrossingCells::kLeafDim / kBlockDim;
-constexpr int kBlocksPerLeaf = kBlocksPerLeafAxis * kBlocksPerLeafAxis * kBlocksPerLeafAxis;
 // The boxes are exact; the margins (voxels) only absorb rounding: of the float boxes, slabs and
 // depths here, and of the rays' float trilinear values.
 constexpr double kNearMarginVoxels = 0.05;
 constexpr double kFarMarginVoxels = 0.05;
-constexpr float kBoxMarginVoxels = 0.01f;
+// Inverse ray direction components are clamped to this (a zero component gives +-inf, and 0 x inf
+// would be NaN in the slab test).
+constexpr float kHugeInverse = 1e12f;
 // Added to the near bound (and taken from the far bound) of a ray that misses a box.
 constexpr float kBeyondAnyDepth = 1e30f;
-
-// Leaf-local index-space box (voxel units) that holds every point of a block's crossing cells
-// where the trilinear TSDF is <= 0. A ray's crossing lies there.
-struct SurfaceBox {
-  float lo[3], hi[3];
-};
-
-// The part of [0, 1] where the linear interpolant from a (at 0) to b (at 1) is <= 0, for the 4
-// edges of a cell along one axis at once (4 float lanes): [lo, hi], empty (lo > hi) when none.
-void nonPositiveSpan(const Eigen::Array4f& a, const Eigen::Array4f& b, float& lo, float& hi) {
-  constexpr float kInfF = std::numeric_limits<float>::infinity();
-  const Eigen::Array4f crossing = a / (a - b);  // used only where the signs differ (then a != b)
-  const auto a_below = a <= 0.0f, b_below = b <= 0.0f;
-  lo = a_below.select(Eigen::Array4f::Zero(), b_below.select(crossing, Eigen::Array4f::Constant(kInfF))).minCoeff();
-  hi = b_below.select(Eigen::Array4f::Ones(), a_below.select(crossing, Eigen::Array4f::Constant(-kInfF))).maxCoeff();
-}
-
-// The box of the non-positive points of the crossing cells in the 2^3 block at leaf-local
-// (x0, y0, z0); false when the block has none. In a cell, the trilinear TSDF on the slice at a
-// fixed position along one axis is bilinear in the other two, so its least value lies on one of
-// the 4 cell edges along that axis: the slice holds a non-positive point only where one of those
-// edges is non-positive. So, per axis, the non-positive points of the cell lie within the union of
-// the non-positive spans of its 4 edges along that axis: a box that is much thinner than the
-// cell where the surface runs close to a voxel plane (a ray that grazes such a surface just above
-// it then starts right at it, instead of a voxel or two higher, which along a shallow ray is many
-// voxels earlier).
-bool surfaceBox(const CrossingCells::LeafCells& leaf, int x0, int y0, int z0, SurfaceBox& box) {
-  constexpr int kX = CrossingCells::kBrickStride, kY = CrossingCells::kBrickDim;
-  if (!((leaf.blocks2 >> (((x0 >> 1) << 4) | ((y0 >> 1) << 2) | (z0 >> 1))) & 1u)) return false;
-  bool any = false;
-  for (int a = 0; a < 3; ++a) {
-    box.lo[a] = std::numeric_limits<float>::infinity();
-    box.hi[a] = -box.lo[a];
-  }
-  for (int x = x0; x < x0 + kBlockDim; ++x)
-    for (int y = y0; y < y0 + kBlockDim; ++y)
-      for (int z = z0; z < z0 + kBlockDim; ++z) {
-        if (!leaf.isCrossing(x, y, z)) continue;
-        any = true;
-        const float* c = leaf.tsdf + kX * x + kY * y + z;
-        // Corners k = dx + 2 dy + 4 dz.
-        const Eigen::Array4f low_x(c[0], c[kY], c[1], c[kY + 1]), high_x(c[kX], c[kX + kY], c[kX + 1], c[kX + kY + 1]);
-        const Eigen::Array4f low_y(c[0], c[kX], c[1], c[kX + 1]), high_y(c[kY], c[kX + kY], c[kY + 1], c[kX + kY + 1]);
-        const Eigen::Array4f low_z(c[0], c[kX], c[kY], c[kX + kY]), high_z(c[1], c[kX + 1], c[kY + 1], c[kX + kY + 1]);
-        const Eigen::Array4f* lows[3] = {&low_x, &low_y, &low_z};
-        const Eigen::Array4f* highs[3] = {&high_x, &high_y, &high_z};
-        const int cell[3] = {x, y, z};
-        for (int axis = 0; axis < 3; ++axis) {
-          float lo, hi;
-          nonPositiveSpan(*lows[axis], *highs[axis], lo, hi);
-          if (lo > hi) continue;  // (cannot happen in a crossing cell: it has a non-positive corner)
-          box.lo[axis] = std::min(box.lo[axis], cell[axis] + lo);
-          box.hi[axis] = std::max(box.hi[axis], cell[axis] + hi);
-        }
-      }
-  if (!any) return false;
-  // A hair wider: the rays' trilinear values are rounded floats.
-  for (int a = 0; a < 3; ++a) {
-    box.lo[a] -= kBoxMarginVoxels;
-    box.hi[a] += kBoxMarginVoxels;
-  }
-  return true;
-}
 
 // What the blocks seen by one thread contribute: inclusive rectangles of pixel centres with their
 // boxes, and the far end of the boxes that reach behind the camera plane (they cannot
@@ -107,7 +41,6 @@ struct Footprints {
 SurfaceDepthBounds::SurfaceDepthBounds(const CrossingCells& cells, double voxel, const PinholeIntrinsics& k,
                                        const Pose& camera_to_world, double min_depth, double max_depth)
     : width_(k.width), height_(k.height) {
-  const auto& leaves = cells.leaves();
   const double s = voxel;
   const double near_margin = kNearMarginVoxels * s, far_margin = kFarMarginVoxels * s;
   const Eigen::Matrix3d world_to_camera = camera_to_world.linear().transpose();
@@ -116,62 +49,56 @@ SurfaceDepthBounds::SurfaceDepthBounds(const CrossingCells& cells, double voxel,
   const Eigen::Vector3d ex = world_to_camera.col(0) * s, ey = world_to_camera.col(1) * s,
                         ez = world_to_camera.col(2) * s;
 
+  const std::vector<SurfaceBox>& boxes = cells.surfaceBoxes();
   tbb::enumerable_thread_specific<Footprints> per_thread;
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 64), [&](const auto& range) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, boxes.size(), 1024), [&](const auto& range) {
     Footprints& out = per_thread.local();
-    for (std::size_t l = range.begin(); l < range.end(); ++l) {
-      const CrossingCells::LeafCells& leaf = leaves[l];
-      if (!leaf.anyCrossing()) continue;
-      for (int block = 0; block < kBlocksPerLeaf; ++block) {
-        const int x0 = (block / (kBlocksPerLeafAxis * kBlocksPerLeafAxis)) * kBlockDim;
-        const int y0 = (block / kBlocksPerLeafAxis % kBlocksPerLeafAxis) * kBlockDim;
-        const int z0 = (block % kBlocksPerLeafAxis) * kBlockDim;
-        SurfaceBox box;
-        if (!surfaceBox(leaf, x0, y0, z0, box)) continue;
-        ++out.blocks;
-        const Eigen::Vector3d low(leaf.origin.x() + double{box.lo[0]}, leaf.origin.y() + double{box.lo[1]},
-                                  leaf.origin.z() + double{box.lo[2]});
-        const Eigen::Vector3d base = world_to_camera * (low * s - camera_origin);
-        const Eigen::Vector3d edge_x = ex * double{box.hi[0] - box.lo[0]}, edge_y = ey * double{box.hi[1] - box.lo[1]},
-                              edge_z = ez * double{box.hi[2] - box.lo[2]};
-        double z_min = std::numeric_limits<double>::infinity(), z_max = -z_min;
-        double u_min = z_min, u_max = z_max, v_min = z_min, v_max = z_max;
-        bool projectable = true;
-        for (int c = 0; c < 8; ++c) {
-          Eigen::Vector3d p = base;
-          if (c & 1) p += edge_x;
-          if (c & 2) p += edge_y;
-          if (c & 4) p += edge_z;
-          z_min = std::min(z_min, p.z());
-          z_max = std::max(z_max, p.z());
-          if (p.z() < kMinProjectableDepth) {
-            projectable = false;
-            continue;
-          }
-          const double inv_z = 1.0 / p.z();
-          const double u = k.fx * p.x() * inv_z + k.cx, v = k.fy * p.y() * inv_z + k.cy;
-          u_min = std::min(u_min, u);
-          u_max = std::max(u_max, u);
-          v_min = std::min(v_min, v);
-          v_max = std::max(v_max, v);
-        }
-        if (z_max < min_depth || z_min > max_depth) continue;  // outside the depth range entirely
-        const auto far = static_cast<float>(std::min(z_max, max_depth) + far_margin);
-        if (!projectable) {
-          out.behind_camera_far = std::max(out.behind_camera_far, far);
+    for (std::size_t i = range.begin(); i < range.end(); ++i) {
+      const SurfaceBox& box = boxes[i];
+      ++out.blocks;
+      Rect r{};
+      for (int a = 0; a < 3; ++a) {
+        r.low[a] = static_cast<float>(box.lo[a] * s - camera_origin[a]);
+        r.high[a] = static_cast<float>(box.hi[a] * s - camera_origin[a]);
+      }
+      const Eigen::Vector3d base = world_to_camera * Eigen::Vector3d(r.low[0], r.low[1], r.low[2]);
+      const Eigen::Vector3d edge_x = ex * double{box.hi[0] - box.lo[0]}, edge_y = ey * double{box.hi[1] - box.lo[1]},
+                            edge_z = ez * double{box.hi[2] - box.lo[2]};
+      double z_min = std::numeric_limits<double>::infinity(), z_max = -z_min;
+      double u_min = z_min, u_max = z_max, v_min = z_min, v_max = z_max;
+      bool projectable = true;
+      for (int c = 0; c < 8; ++c) {
+        Eigen::Vector3d p = base;
+        if (c & 1) p += edge_x;
+        if (c & 2) p += edge_y;
+        if (c & 4) p += edge_z;
+        z_min = std::min(z_min, p.z());
+        z_max = std::max(z_max, p.z());
+        if (p.z() < kMinProjectableDepth) {
+          projectable = false;
           continue;
         }
-        // Pixel centres (integers) inside [u_min, u_max] x [v_min, v_max], clipped to the image.
-        const double u0 = std::max(std::ceil(u_min), 0.0), u1 = std::min(std::floor(u_max), k.width - 1.0);
-        const double v0 = std::max(std::ceil(v_min), 0.0), v1 = std::min(std::floor(v_max), k.height - 1.0);
-        if (u0 > u1 || v0 > v1) continue;
-        Rect r{static_cast<int>(u0), static_cast<int>(u1), static_cast<int>(v0), static_cast<int>(v1), {}, {}};
-        for (int a = 0; a < 3; ++a) {
-          r.low[a] = static_cast<float>(low[a] * s - camera_origin[a]);
-          r.high[a] = static_cast<float>((leaf.origin[a] + double{box.hi[a]}) * s - camera_origin[a]);
-        }
-        out.rects.push_back(r);
+        const double inv_z = 1.0 / p.z();
+        const double u = k.fx * p.x() * inv_z + k.cx, v = k.fy * p.y() * inv_z + k.cy;
+        u_min = std::min(u_min, u);
+        u_max = std::max(u_max, u);
+        v_min = std::min(v_min, v);
+        v_max = std::max(v_max, v);
       }
+      if (z_max < min_depth || z_min > max_depth) continue;  // outside the depth range entirely
+      if (!projectable) {
+        out.behind_camera_far = std::max(out.behind_camera_far, static_cast<float>(std::min(z_max, max_depth) + far_margin));
+        continue;
+      }
+      // Pixel centres (integers) inside [u_min, u_max] x [v_min, v_max], clipped to the image.
+      const double u0 = std::max(std::ceil(u_min), 0.0), u1 = std::min(std::floor(u_max), k.width - 1.0);
+      const double v0 = std::max(std::ceil(v_min), 0.0), v1 = std::min(std::floor(v_max), k.height - 1.0);
+      if (u0 > u1 || v0 > v1) continue;
+      r.u0 = static_cast<int>(u0);
+      r.u1 = static_cast<int>(u1);
+      r.v0 = static_cast<int>(v0);
+      r.v1 = static_cast<int>(v1);
+      out.rects.push_back(r);
     }
   });
 
@@ -212,15 +139,15 @@ void SurfaceDepthBounds::rasterizeBand(int band, BandBounds& out) const {
   out.far_.assign(pixels, open_far_);
   // Per pixel and world axis, the inverse of the ray's direction component (depth per metre along
   // that axis), kept finite: a ray parallel to an axis gets a huge value of either sign, which puts
-  // a box's slab on that axis either around all depths or beyond any.
+  // a box's slab on that axis either around all depths or beyond any. (Float: the slab depths need
+  // no more than the margins allow, and the loop vectorises.)
   out.inverse_direction_.resize(3 * pixels);
   for (int a = 0; a < 3; ++a)
     for (int v = out.v_begin_; v < out.v_begin_ + rows; ++v) {
       float* row = out.inverse_direction_.data() + a * pixels + static_cast<std::size_t>(v - out.v_begin_) * width_;
-      for (int u = 0; u < width_; ++u) {
-        const double w = ray_du_[a] * u + ray_dv_[a] * v + ray_at_origin_[a];
-        row[u] = static_cast<float>(1.0 / (std::abs(w) < 1e-12 ? std::copysign(1e-12, w) : w));
-      }
+      const auto du = static_cast<float>(ray_du_[a]), at_u0 = static_cast<float>(ray_dv_[a] * v + ray_at_origin_[a]);
+      for (int u = 0; u < width_; ++u)
+        row[u] = std::clamp(1.0f / (du * static_cast<float>(u) + at_u0), -kHugeInverse, kHugeInverse);
     }
   const float near_margin = near_margin_, far_margin = far_margin_;
   for (std::size_t i = band_start_[band]; i < band_start_[band + 1]; ++i) {

@@ -4,7 +4,7 @@
 // A ray can only report the surface inside a crossing cell (CrossingCells), at a point where the
 // trilinear TSDF is <= 0. Each 2^3 block of cells of a leaf that holds crossing cells is reduced
 // to the box of those points (the non-positive part of each crossing cell, bounded from its
-// edges: see surfaceBox in the .cpp), and every pixel whose ray passes through the box keeps the
+// edges: CrossingCells::surfaceBoxes()), and every pixel whose ray passes through the box keeps the
 // smallest depth at which its ray enters such a box and the largest at which it leaves one. A ray
 // then walks only from the first entry to the last exit: neither the free space in front of the
 // surface nor, mostly, the positive side of the crossing cells just in front of it.
