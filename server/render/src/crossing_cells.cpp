@@ -122,9 +122,17 @@ void nonPositiveSpan(const Eigen::Array4f& a, const Eigen::Array4f& b, float& lo
 // list); the face at 1 holds the same corners plus that axis' bit.
 constexpr unsigned kLowerFace[3] = {0x55u, 0x33u, 0x0Fu};
 constexpr int kLowerFaceCorners[3][4] = {{0, 2, 4, 6}, {0, 1, 4, 5}, {0, 1, 2, 3}};
+// Brick offset of corner k from the cell's base voxel.
+constexpr int kCornerOffset[8] = {0,
+                                  CrossingCells::kBrickStride,
+                                  CrossingCells::kBrickDim,
+                                  CrossingCells::kBrickStride + CrossingCells::kBrickDim,
+                                  1,
+                                  CrossingCells::kBrickStride + 1,
+                                  CrossingCells::kBrickDim + 1,
+                                  CrossingCells::kBrickStride + CrossingCells::kBrickDim + 1};
 
-SurfaceBox surfaceBox(const LeafCells& leaf, int x0, int y0, int z0) {
-  constexpr int kX = CrossingCells::kBrickStride, kY = CrossingCells::kBrickDim;
+SurfaceBox surfaceBox(const LeafCells& leaf, const VoxelColumns& columns, int x0, int y0, int z0) {
   constexpr int kBlockDim = CrossingCells::kSurfaceBlockDim;
   SurfaceBox box;
   for (int a = 0; a < 3; ++a) {
@@ -135,22 +143,24 @@ SurfaceBox surfaceBox(const LeafCells& leaf, int x0, int y0, int z0) {
     for (int y = y0; y < y0 + kBlockDim; ++y)
       for (int z = z0; z < z0 + kBlockDim; ++z) {
         if (!leaf.isCrossing(x, y, z)) continue;
-        const float* c = leaf.tsdf + kX * x + kY * y + z;
-        // Corners k = dx + 2 dy + 4 dz.
-        const float v[8] = {c[0], c[kX], c[kY], c[kX + kY], c[1], c[kX + 1], c[kY + 1], c[kX + kY + 1]};
-        unsigned below = 0;  // bit k: corner k <= 0
-        for (int k = 0; k < 8; ++k) below |= static_cast<unsigned>(v[k] <= 0.0f) << k;
+        // Which corners k = dx + 2 dy + 4 dz are <= 0, from the column bits (all 8 are observed).
+        const unsigned c00 = columns.non_positive[x][y] >> z, c10 = columns.non_positive[x + 1][y] >> z,
+                       c01 = columns.non_positive[x][y + 1] >> z, c11 = columns.non_positive[x + 1][y + 1] >> z;
+        const unsigned below = (c00 & 1u) | (c10 & 1u) << 1 | (c01 & 1u) << 2 | (c11 & 1u) << 3 |
+                               (c00 & 2u) << 3 | (c10 & 2u) << 4 | (c01 & 2u) << 5 | (c11 & 2u) << 6;
         const int cell[3] = {x, y, z};
+        const float* c = leaf.tsdf + kCornerOffset[1] * x + kCornerOffset[2] * y + z;
         for (int axis = 0; axis < 3; ++axis) {
-          const int along = 1 << axis;
           float lo = 0.0f, hi = 1.0f;
           // Most often both faces across the axis have a non-positive corner: the whole span,
-          // with no division.
+          // with no division (and no voxel read).
           if (!(below & kLowerFace[axis]) || !(below & ~kLowerFace[axis] & 0xFFu)) {
             const int* lower = kLowerFaceCorners[axis];
-            nonPositiveSpan(Eigen::Array4f(v[lower[0]], v[lower[1]], v[lower[2]], v[lower[3]]),
-                            Eigen::Array4f(v[lower[0] | along], v[lower[1] | along], v[lower[2] | along],
-                                           v[lower[3] | along]),
+            const int step = kCornerOffset[1 << axis];
+            nonPositiveSpan(Eigen::Array4f(c[kCornerOffset[lower[0]]], c[kCornerOffset[lower[1]]],
+                                           c[kCornerOffset[lower[2]]], c[kCornerOffset[lower[3]]]),
+                            Eigen::Array4f(c[kCornerOffset[lower[0]] + step], c[kCornerOffset[lower[1]] + step],
+                                           c[kCornerOffset[lower[2]] + step], c[kCornerOffset[lower[3]] + step]),
                             lo, hi);
           }
           box.lo[axis] = std::min(box.lo[axis], cell[axis] + lo);
@@ -160,12 +170,13 @@ SurfaceBox surfaceBox(const LeafCells& leaf, int x0, int y0, int z0) {
   return box;
 }
 
-// The surface boxes of a leaf (crossing masks and brick done), in index space, onto `out`.
-void addSurfaceBoxes(const LeafCells& leaf, std::vector<SurfaceBox>& out) {
+// The surface boxes of a leaf (crossing masks and brick done, `columns` its voxel columns), in
+// index space, onto `out`.
+void addSurfaceBoxes(const LeafCells& leaf, const VoxelColumns& columns, std::vector<SurfaceBox>& out) {
   static_assert(CrossingCells::kSurfaceBlockDim == 2, "blocks2 has one bit per 2^3 block");
   for (uint64_t blocks = leaf.blocks2; blocks != 0; blocks &= blocks - 1) {
     const int bit = __builtin_ctzll(blocks);  // 16 bx + 4 by + bz
-    SurfaceBox box = surfaceBox(leaf, 2 * (bit >> 4), 2 * ((bit >> 2) & 3), 2 * (bit & 3));
+    SurfaceBox box = surfaceBox(leaf, columns, 2 * (bit >> 4), 2 * ((bit >> 2) & 3), 2 * (bit & 3));
     // A hair wider: the rays' trilinear values are rounded floats.
     for (int a = 0; a < 3; ++a) {
       box.lo[a] += static_cast<float>(leaf.origin[a]) - kBoxMarginVoxels;
@@ -280,7 +291,7 @@ void CrossingCells::findCrossings() {
       leaf.crossing = crossingMask(columns);
       leaf.tsdf = brick;
       summarizeBlocks(leaf);
-      addSurfaceBoxes(leaf, leaf_boxes);
+      addSurfaceBoxes(leaf, columns, leaf_boxes);
     }
   });
   surface_boxes_.clear();
