@@ -242,6 +242,13 @@ bool CellMarcher::findSurface(const MarchRay& ray, SurfaceHit& hit) const {
             }
           }
           if (s_end > 0.0) {
+            // Shading reads the label of one of the cell's corners from the packed voxels, which
+            // the walk has not touched: start loading their cache lines now, so that the root
+            // finding below hides the miss. (z and z + 1 share a line.)
+            for (int dx = 0; dx < 2; ++dx)
+              for (int dy = 0; dy < 2; ++dy)
+                if (const volume::PackedVoxel* voxels = leaf->upper[LeafCells::upperHolding(lx + dx, ly + dy, lz)])
+                  __builtin_prefetch(voxels + LeafCells::offsetInLeaf(lx + dx, ly + dy, lz));
             hit.t = t + rootInBracket(g, s_end, f_in, g_end) * (t_exit - t);
             hit.leaf = leaf;
             hit.local[0] = lx;
