@@ -95,16 +95,21 @@ class SurfaceDepthBoundsTest : public ::testing::Test {
 };
 
 // Every surface point the plain march finds lies inside its pixel's bounds, and the rays start
-// close to it: the boxes hold only the non-positive part of the crossing cells, and each pixel
-// takes the depth where its own ray enters them. (Measured: 1.0 and 1.6 voxels ahead of the hit
-// on average; 3.8 and 6.3 with whole crossing cells and the nearest corner of each box.)
+// close to it: the boxes hold only the non-positive part of the crossing cells and are cut by a
+// half-space along the surface, and each pixel takes the depth where its own ray enters them.
+// Measured, voxels ahead of the hit on average for the two views: 0.5 and 1.2; 1.0 and 1.6
+// without the half-spaces; 3.8 and 6.3 with whole crossing cells and each box's nearest corner.
 TEST_F(SurfaceDepthBoundsTest, HoldEveryHitTightly) {
-  for (const Pose& pose : {synthetic::lookAt({-1.0, 0.3, 0.8}, {0.1, 0.0, 0.25}),
-                           synthetic::lookAt({-1.5, -0.4, 0.25}, {0.2, 0.1, 0.0})}) {
-    const BoundsCheck c = checkBounds(volume_, testing::kSmallCamera, pose);
+  const struct {
+    Pose pose;
+    double max_mean_lead;
+  } views[] = {{synthetic::lookAt({-1.0, 0.3, 0.8}, {0.1, 0.0, 0.25}), 0.7},
+               {synthetic::lookAt({-1.5, -0.4, 0.25}, {0.2, 0.1, 0.0}), 1.4}};
+  for (const auto& view : views) {
+    const BoundsCheck c = checkBounds(volume_, testing::kSmallCamera, view.pose);
     ASSERT_GT(c.hits, 20000);
     EXPECT_EQ(c.outside, 0) << "of " << c.hits << " hits";
-    EXPECT_LT(c.mean_lead_voxels, 2.0);
+    EXPECT_LT(c.mean_lead_voxels, view.max_mean_lead);
     RecordProperty("mean_lead_voxels", std::to_string(c.mean_lead_voxels));
     RecordProperty("max_lead_voxels", std::to_string(c.max_lead_voxels));
   }

@@ -98,6 +98,8 @@ void summarizeBlocks(LeafCells& leaf) {
 
 // Surface boxes are widened by this much (voxels) on every side.
 constexpr float kBoxMarginVoxels = 0.01f;
+// And their half-spaces by this much TSDF (metres): the rays' trilinear values are floats.
+constexpr float kPlaneMarginTsdf = 1e-5f;
 
 // The part of [0, 1] where the linear interpolant from a (at 0) to b (at 1) is <= 0, for the 4
 // edges of a cell along one axis at once (4 float lanes): [lo, hi], empty (lo > hi) when none.
@@ -134,7 +136,11 @@ constexpr int kCornerOffset[8] = {0,
 
 SurfaceBox surfaceBox(const LeafCells& leaf, const VoxelColumns& columns, int x0, int y0, int z0) {
   constexpr int kBlockDim = CrossingCells::kSurfaceBlockDim;
+  constexpr int kBlockCells = kBlockDim * kBlockDim * kBlockDim;
   SurfaceBox box;
+  const float* cell_corners[kBlockCells];  // the crossing cells' base voxels in the brick
+  int cell_at[kBlockCells][3];
+  int cells = 0;
   for (int a = 0; a < 3; ++a) {
     box.lo[a] = std::numeric_limits<float>::infinity();
     box.hi[a] = -box.lo[a];
@@ -150,6 +156,11 @@ SurfaceBox surfaceBox(const LeafCells& leaf, const VoxelColumns& columns, int x0
                                (c00 & 2u) << 3 | (c10 & 2u) << 4 | (c01 & 2u) << 5 | (c11 & 2u) << 6;
         const int cell[3] = {x, y, z};
         const float* c = leaf.tsdf + kCornerOffset[1] * x + kCornerOffset[2] * y + z;
+        cell_corners[cells] = c;
+        cell_at[cells][0] = x;
+        cell_at[cells][1] = y;
+        cell_at[cells][2] = z;
+        ++cells;
         for (int axis = 0; axis < 3; ++axis) {
           float lo = 0.0f, hi = 1.0f;
           // Most often both faces across the axis have a non-positive corner: the whole span,
@@ -167,6 +178,31 @@ SurfaceBox surfaceBox(const LeafCells& leaf, const VoxelColumns& columns, int x0
           box.hi[axis] = std::max(box.hi[axis], cell[axis] + hi);
         }
       }
+  // The half-space. Any linear L(p) = g . p will do: in a cell, f - L is trilinear too, so it is
+  // no less than its least corner value, and f(p) <= 0 implies L(p) <= max over the corners of
+  // (L - f). Over the block's crossing cells that gives g . p <= offset. The closer g follows the
+  // TSDF's gradient, the closer that plane lies to the surface: g is the mean difference along
+  // the cells' edges.
+  float g[3] = {0.0f, 0.0f, 0.0f};
+  for (int i = 0; i < cells; ++i)
+    for (int axis = 0; axis < 3; ++axis) {
+      const int* lower = kLowerFaceCorners[axis];
+      const int step = kCornerOffset[1 << axis];
+      for (int e = 0; e < 4; ++e) {
+        const float* edge = cell_corners[i] + kCornerOffset[lower[e]];
+        g[axis] += edge[step] - edge[0];
+      }
+    }
+  for (float& component : g) component /= static_cast<float>(4 * cells);
+  float offset = -std::numeric_limits<float>::infinity();
+  for (int i = 0; i < cells; ++i) {
+    const float base = g[0] * cell_at[i][0] + g[1] * cell_at[i][1] + g[2] * cell_at[i][2];
+    for (int k = 0; k < 8; ++k)
+      offset = std::max(offset, base + g[0] * (k & 1) + g[1] * ((k >> 1) & 1) + g[2] * (k >> 2) -
+                                    cell_corners[i][kCornerOffset[k]]);
+  }
+  for (int a = 0; a < 3; ++a) box.normal[a] = g[a];
+  box.offset = offset;
   return box;
 }
 
@@ -182,6 +218,11 @@ void addSurfaceBoxes(const LeafCells& leaf, const VoxelColumns& columns, std::ve
       box.lo[a] += static_cast<float>(leaf.origin[a]) - kBoxMarginVoxels;
       box.hi[a] += static_cast<float>(leaf.origin[a]) + kBoxMarginVoxels;
     }
+    // From leaf-local to index space, and as much wider as the box (the gradient is at most
+    // the largest TSDF difference along an edge).
+    box.offset += box.normal[0] * leaf.origin.x() + box.normal[1] * leaf.origin.y() + box.normal[2] * leaf.origin.z() +
+                  kBoxMarginVoxels * (std::abs(box.normal[0]) + std::abs(box.normal[1]) + std::abs(box.normal[2])) +
+                  kPlaneMarginTsdf;
     out.push_back(box);
   }
 }

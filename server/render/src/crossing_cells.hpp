@@ -25,11 +25,13 @@
 
 namespace semfuse::render::detail {
 
-// Index-space box (voxel units; voxel (i, j, k) at (i, j, k)) that holds every point of the
-// crossing cells of one 2^3 block of cells where the trilinear TSDF is <= 0: a ray's crossing in
-// that block lies inside it.
+// Index-space box (voxel units; voxel (i, j, k) at (i, j, k)) and half-space that both hold
+// every point of the crossing cells of one 2^3 block of cells where the trilinear TSDF is <= 0:
+// a ray's crossing in that block lies inside both.
 struct SurfaceBox {
   float lo[3], hi[3];
+  float normal[3];  // the half-space normal . p <= offset (normal: about the TSDF gradient,
+  float offset;     // metres of TSDF per voxel)
 };
 
 class CrossingCells {

@@ -24,6 +24,9 @@ constexpr double kFarMarginVoxels = 0.05;
 // Inverse ray direction components are clamped to this (a zero component gives +-inf, and 0 x inf
 // would be NaN in the slab test).
 constexpr float kHugeInverse = 1e12f;
+// Smallest |slope| of a ray against a half-space (TSDF metres per metre of depth): a ray that
+// runs parallel to the plane then meets it beyond any depth, or never leaves it.
+constexpr float kTinySlope = 1e-12f;
 // Added to the near bound (and taken from the far bound) of a ray that misses a box.
 constexpr float kBeyondAnyDepth = 1e30f;
 
@@ -48,6 +51,16 @@ SurfaceDepthBounds::SurfaceDepthBounds(const CrossingCells& cells, double voxel,
   // Camera-frame unit edges of a box.
   const Eigen::Vector3d ex = world_to_camera.col(0) * s, ey = world_to_camera.col(1) * s,
                         ez = world_to_camera.col(2) * s;
+
+  // The world direction of pixel (u, v)'s ray, per unit of camera depth, is linear in u and v.
+  const Eigen::Matrix3d& rotation = camera_to_world.linear();
+  for (int a = 0; a < 3; ++a) {
+    ray_du_[a] = rotation(a, 0) / k.fx;
+    ray_dv_[a] = rotation(a, 1) / k.fy;
+    ray_at_origin_[a] = rotation(a, 2) - rotation(a, 0) * k.cx / k.fx - rotation(a, 1) * k.cy / k.fy;
+  }
+  const Eigen::Vector3d ray_du(ray_du_[0], ray_du_[1], ray_du_[2]), ray_dv(ray_dv_[0], ray_dv_[1], ray_dv_[2]),
+      ray_at_origin(ray_at_origin_[0], ray_at_origin_[1], ray_at_origin_[2]);
 
   const std::vector<SurfaceBox>& boxes = cells.surfaceBoxes();
   tbb::enumerable_thread_specific<Footprints> per_thread;
@@ -94,6 +107,12 @@ SurfaceDepthBounds::SurfaceDepthBounds(const CrossingCells& cells, double voxel,
       const double u0 = std::max(std::ceil(u_min), 0.0), u1 = std::min(std::floor(u_max), k.width - 1.0);
       const double v0 = std::max(std::ceil(v_min), 0.0), v1 = std::min(std::floor(v_max), k.height - 1.0);
       if (u0 > u1 || v0 > v1) continue;
+      // The half-space along the ray: t a(u, v) <= c, a linear in the pixel.
+      const Eigen::Vector3d g = Eigen::Vector3d(box.normal[0], box.normal[1], box.normal[2]) / s;
+      r.plane_du = static_cast<float>(g.dot(ray_du));
+      r.plane_dv = static_cast<float>(g.dot(ray_dv));
+      r.plane_at_origin = static_cast<float>(g.dot(ray_at_origin));
+      r.plane_c = static_cast<float>(double{box.offset} - g.dot(camera_origin));
       r.u0 = static_cast<int>(u0);
       r.u1 = static_cast<int>(u1);
       r.v0 = static_cast<int>(v0);
@@ -115,13 +134,7 @@ SurfaceDepthBounds::SurfaceDepthBounds(const CrossingCells& cells, double voxel,
   open_near_ = open_far_ > -kInf ? static_cast<float>(min_depth - near_margin) : kInf;
   near_margin_ = static_cast<float>(near_margin);
   far_margin_ = static_cast<float>(far_margin);
-  // The world direction of pixel (u, v)'s ray, per unit of camera depth, is linear in u and v.
-  const Eigen::Matrix3d& rotation = camera_to_world.linear();
-  for (int a = 0; a < 3; ++a) {
-    ray_du_[a] = rotation(a, 0) / k.fx;
-    ray_dv_[a] = rotation(a, 1) / k.fy;
-    ray_at_origin_[a] = rotation(a, 2) - rotation(a, 0) * k.cx / k.fx - rotation(a, 1) * k.cy / k.fy;
-  }
+
   for (std::size_t band = 0; band + 1 < band_start_.size(); ++band) band_start_[band + 1] += band_start_[band];
   footprints_.resize(band_start_.back());
   std::vector<std::size_t> next(band_start_.begin(), band_start_.end() - 1);
@@ -155,6 +168,7 @@ void SurfaceDepthBounds::rasterizeBand(int band, BandBounds& out) const {
     // Locals, so that the compiler can keep them in registers across the stores into the rows
     // (and vectorise the loop over u).
     const float lx = f.low[0], hx = f.high[0], ly = f.low[1], hy = f.high[1], lz = f.low[2], hz = f.high[2];
+    const float plane_du = f.plane_du, plane_c = f.plane_c;
     const int v0 = std::max(f.v0, out.v_begin_), v1 = std::min(f.v1, out.v_begin_ + rows - 1);
     for (int v = v0; v <= v1; ++v) {
       const std::size_t row_start = static_cast<std::size_t>(v - out.v_begin_) * width_;
@@ -163,13 +177,24 @@ void SurfaceDepthBounds::rasterizeBand(int band, BandBounds& out) const {
       const float* __restrict inv_x = out.inverse_direction_.data() + row_start;
       const float* __restrict inv_y = inv_x + pixels;
       const float* __restrict inv_z = inv_y + pixels;
+      const float plane_row = f.plane_dv * static_cast<float>(v) + f.plane_at_origin;
       for (int u = f.u0; u <= f.u1; ++u) {
         // The ray's depths inside the box: the overlap of its three slabs.
         const float x0 = lx * inv_x[u], x1 = hx * inv_x[u];
         const float y0 = ly * inv_y[u], y1 = hy * inv_y[u];
         const float z0 = lz * inv_z[u], z1 = hz * inv_z[u];
-        const float enter = std::max(std::max(std::min(x0, x1), std::min(y0, y1)), std::min(z0, z1));
-        const float leave = std::min(std::min(std::max(x0, x1), std::max(y0, y1)), std::max(z0, z1));
+        // And the half-space: t a <= c, entered at c / a where a < 0, left there where a > 0.
+        const float a = plane_du * static_cast<float>(u) + plane_row;
+        const float a_safe = std::copysign(std::max(std::abs(a), kTinySlope), a);
+        const float t_plane = plane_c / a_safe;
+        // (a < 0: beyond = +huge, so the plane bounds the entry only; a > 0: the exit only.)
+        const float beyond = std::copysign(kBeyondAnyDepth, -a_safe);
+        const float plane_enter = std::min(t_plane, beyond);
+        const float plane_leave = std::max(t_plane, beyond);
+        const float enter =
+            std::max(std::max(std::max(std::min(x0, x1), std::min(y0, y1)), std::min(z0, z1)), plane_enter);
+        const float leave =
+            std::min(std::min(std::min(std::max(x0, x1), std::max(y0, y1)), std::max(z0, z1)), plane_leave);
         // A ray that misses the box gets a near bound far beyond and a far bound far before any
         // depth (arithmetic rather than a branch, so that the loop vectorises).
         const float missed = static_cast<float>(enter > leave) * kBeyondAnyDepth;

@@ -3,16 +3,16 @@
 //
 // A ray can only report the surface inside a crossing cell (CrossingCells), at a point where the
 // trilinear TSDF is <= 0. Each 2^3 block of cells of a leaf that holds crossing cells is reduced
-// to the box of those points (the non-positive part of each crossing cell, bounded from its
-// edges: CrossingCells::surfaceBoxes()), and every pixel whose ray passes through the box keeps the
-// smallest depth at which its ray enters such a box and the largest at which it leaves one. A ray
-// then walks only from the first entry to the last exit: neither the free space in front of the
-// surface nor, mostly, the positive side of the crossing cells just in front of it.
+// to a box and a half-space that hold those points (CrossingCells::surfaceBoxes(): the box from
+// the cells' edges, the half-space along the surface), and every pixel whose ray passes through
+// both keeps the smallest depth at which its ray enters such a region and the largest at which it
+// leaves one. A ray then walks only from the first entry to the last exit: neither the free space
+// in front of the surface nor, mostly, the positive side of the crossing cells just in front of it.
 //
 // Each box is projected to the rectangle of its projected corners and filed per band of image
 // rows; just before a band is marched, the thread that marches it intersects each pixel's ray in
-// the rectangles over it with the box (three slabs, from per-pixel inverse ray directions: a few
-// vector operations per pixel). Conservative by construction (up to float rounding, which the
+// the rectangles over it with the box and half-space (three slabs, from per-pixel inverse ray
+// directions, and one plane: a few vector operations per pixel). Conservative by construction (up to float rounding, which the
 // margins absorb); a box that reaches behind the camera plane opens every pixel from the near
 // clip on.
 #include <cstddef>
@@ -68,6 +68,9 @@ class SurfaceDepthBounds {
   struct Rect {  // inclusive pixel-centre rectangle of one projected box, and the box itself
     int u0, u1, v0, v1;
     float low[3], high[3];  // world box minus the camera centre, metres
+    // Its half-space along pixel (u, v)'s ray at camera depth t: t a <= plane_c, with
+    // a = plane_du u + plane_dv v + plane_at_origin.
+    float plane_du, plane_dv, plane_at_origin, plane_c;
   };
 
  private:
