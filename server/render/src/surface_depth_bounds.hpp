@@ -12,9 +12,9 @@
 // Each box is projected to the rectangle of its projected corners and filed per band of image
 // rows; just before a band is marched, the thread that marches it intersects each pixel's ray in
 // the rectangles over it with the box and half-space (three slabs, from per-pixel inverse ray
-// directions, and one plane: a few vector operations per pixel). Conservative by construction (up to float rounding, which the
-// margins absorb); a box that reaches behind the camera plane opens every pixel from the near
-// clip on.
+// directions, and one plane: a few vector operations per pixel). Conservative by construction
+// (up to float rounding, which the margins absorb); a box that reaches behind the camera plane
+// opens every pixel from the near clip on.
 #include <cstddef>
 #include <vector>
 
