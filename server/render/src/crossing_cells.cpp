@@ -138,9 +138,10 @@ SurfaceBox surfaceBox(const LeafCells& leaf, const VoxelColumns& columns, int x0
   constexpr int kBlockDim = CrossingCells::kSurfaceBlockDim;
   constexpr int kBlockCells = kBlockDim * kBlockDim * kBlockDim;
   SurfaceBox box;
-  const float* cell_corners[kBlockCells];  // the crossing cells' base voxels in the brick
+  float corners[kBlockCells][8];  // of the block's crossing cells, k = dx + 2 dy + 4 dz
   int cell_at[kBlockCells][3];
   int cells = 0;
+  float edge_sum[3] = {0.0f, 0.0f, 0.0f};  // summed differences along the cells' edges, per axis
   for (int a = 0; a < 3; ++a) {
     box.lo[a] = std::numeric_limits<float>::infinity();
     box.hi[a] = -box.lo[a];
@@ -149,29 +150,30 @@ SurfaceBox surfaceBox(const LeafCells& leaf, const VoxelColumns& columns, int x0
     for (int y = y0; y < y0 + kBlockDim; ++y)
       for (int z = z0; z < z0 + kBlockDim; ++z) {
         if (!leaf.isCrossing(x, y, z)) continue;
-        // Which corners k = dx + 2 dy + 4 dz are <= 0, from the column bits (all 8 are observed).
+        // Which corners are <= 0, from the column bits (all 8 are observed).
         const unsigned c00 = columns.non_positive[x][y] >> z, c10 = columns.non_positive[x + 1][y] >> z,
                        c01 = columns.non_positive[x][y + 1] >> z, c11 = columns.non_positive[x + 1][y + 1] >> z;
         const unsigned below = (c00 & 1u) | (c10 & 1u) << 1 | (c01 & 1u) << 2 | (c11 & 1u) << 3 |
                                (c00 & 2u) << 3 | (c10 & 2u) << 4 | (c01 & 2u) << 5 | (c11 & 2u) << 6;
-        const int cell[3] = {x, y, z};
         const float* c = leaf.tsdf + kCornerOffset[1] * x + kCornerOffset[2] * y + z;
-        cell_corners[cells] = c;
-        cell_at[cells][0] = x;
-        cell_at[cells][1] = y;
-        cell_at[cells][2] = z;
+        float* v = corners[cells];
+        for (int k = 0; k < 8; ++k) v[k] = c[kCornerOffset[k]];
+        const int cell[3] = {x, y, z};
+        for (int axis = 0; axis < 3; ++axis) cell_at[cells][axis] = cell[axis];
         ++cells;
+        edge_sum[0] += (v[1] + v[3] + v[5] + v[7]) - (v[0] + v[2] + v[4] + v[6]);
+        edge_sum[1] += (v[2] + v[3] + v[6] + v[7]) - (v[0] + v[1] + v[4] + v[5]);
+        edge_sum[2] += (v[4] + v[5] + v[6] + v[7]) - (v[0] + v[1] + v[2] + v[3]);
         for (int axis = 0; axis < 3; ++axis) {
           float lo = 0.0f, hi = 1.0f;
           // Most often both faces across the axis have a non-positive corner: the whole span,
-          // with no division (and no voxel read).
+          // with no division.
           if (!(below & kLowerFace[axis]) || !(below & ~kLowerFace[axis] & 0xFFu)) {
             const int* lower = kLowerFaceCorners[axis];
-            const int step = kCornerOffset[1 << axis];
-            nonPositiveSpan(Eigen::Array4f(c[kCornerOffset[lower[0]]], c[kCornerOffset[lower[1]]],
-                                           c[kCornerOffset[lower[2]]], c[kCornerOffset[lower[3]]]),
-                            Eigen::Array4f(c[kCornerOffset[lower[0]] + step], c[kCornerOffset[lower[1]] + step],
-                                           c[kCornerOffset[lower[2]] + step], c[kCornerOffset[lower[3]] + step]),
+            const int along = 1 << axis;
+            nonPositiveSpan(Eigen::Array4f(v[lower[0]], v[lower[1]], v[lower[2]], v[lower[3]]),
+                            Eigen::Array4f(v[lower[0] | along], v[lower[1] | along], v[lower[2] | along],
+                                           v[lower[3] | along]),
                             lo, hi);
           }
           box.lo[axis] = std::min(box.lo[axis], cell[axis] + lo);
@@ -183,23 +185,13 @@ SurfaceBox surfaceBox(const LeafCells& leaf, const VoxelColumns& columns, int x0
   // (L - f). Over the block's crossing cells that gives g . p <= offset. The closer g follows the
   // TSDF's gradient, the closer that plane lies to the surface: g is the mean difference along
   // the cells' edges.
-  float g[3] = {0.0f, 0.0f, 0.0f};
-  for (int i = 0; i < cells; ++i)
-    for (int axis = 0; axis < 3; ++axis) {
-      const int* lower = kLowerFaceCorners[axis];
-      const int step = kCornerOffset[1 << axis];
-      for (int e = 0; e < 4; ++e) {
-        const float* edge = cell_corners[i] + kCornerOffset[lower[e]];
-        g[axis] += edge[step] - edge[0];
-      }
-    }
-  for (float& component : g) component /= static_cast<float>(4 * cells);
+  float g[3];
+  for (int a = 0; a < 3; ++a) g[a] = edge_sum[a] / static_cast<float>(4 * cells);
   float offset = -std::numeric_limits<float>::infinity();
   for (int i = 0; i < cells; ++i) {
     const float base = g[0] * cell_at[i][0] + g[1] * cell_at[i][1] + g[2] * cell_at[i][2];
     for (int k = 0; k < 8; ++k)
-      offset = std::max(offset, base + g[0] * (k & 1) + g[1] * ((k >> 1) & 1) + g[2] * (k >> 2) -
-                                    cell_corners[i][kCornerOffset[k]]);
+      offset = std::max(offset, base + g[0] * (k & 1) + g[1] * ((k >> 1) & 1) + g[2] * (k >> 2) - corners[i][k]);
   }
   for (int a = 0; a < 3; ++a) box.normal[a] = g[a];
   box.offset = offset;
