@@ -17,8 +17,8 @@ namespace semfuse::render::testing {
 // a crossing right behind the boundary of what the cameras saw is a crossing too (the fast path
 // finds those; the plain march, whose last sample before them was invalid, does not). Slow; for a
 // few pixels only. The value just before the ray leaves observed cells counts the same way.
-inline double denseFirstCrossing(const volume::LabeledVolume& volume, const PinholeIntrinsics& k, const Pose& pose, int u,
-                          int v, const RaycastOptions& options) {
+inline double denseFirstCrossing(const volume::LabeledVolume& volume, const PinholeIntrinsics& k, const Pose& pose,
+                                 int u, int v, const RaycastOptions& options) {
   volume::VolumeSampler sampler(volume);
   const Eigen::Vector3d direction = pose.linear() * Eigen::Vector3d((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);
   auto valueAt = [&](double t, float& f) { return sampler.tsdf(Eigen::Vector3d(pose.translation() + t * direction), f); };

@@ -100,7 +100,8 @@ SurfaceDepthBounds::SurfaceDepthBounds(const CrossingCells& cells, double voxel,
       }
       if (z_max < min_depth || z_min > max_depth) continue;  // outside the depth range entirely
       if (!projectable) {
-        out.behind_camera_far = std::max(out.behind_camera_far, static_cast<float>(std::min(z_max, max_depth) + far_margin));
+        const auto far = static_cast<float>(std::min(z_max, max_depth) + far_margin);
+        out.behind_camera_far = std::max(out.behind_camera_far, far);
         continue;
       }
       // Pixel centres (integers) inside [u_min, u_max] x [v_min, v_max], clipped to the image.
