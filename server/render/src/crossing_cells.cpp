@@ -111,15 +111,6 @@ void nonPositiveSpan(const Eigen::Array4f& a, const Eigen::Array4f& b, float& lo
   hi = b_below.select(Eigen::Array4f::Ones(), a_below.select(crossing, Eigen::Array4f::Constant(-kInfF))).maxCoeff();
 }
 
-// The box of the non-positive points of the crossing cells in the 2^3 block at leaf-local
-// (x0, y0, z0) (which holds at least one), leaf-local. In a cell, the trilinear TSDF on the slice at a
-// fixed position along one axis is bilinear in the other two, so its least value lies on one of
-// the 4 cell edges along that axis: the slice holds a non-positive point only where one of those
-// edges is non-positive. So, per axis, the non-positive points of the cell lie within the union of
-// the non-positive spans of its 4 edges along that axis: a box that is much thinner than the
-// cell where the surface runs close to a voxel plane (a ray that grazes such a surface just above
-// it then starts right at it, instead of a voxel or two higher, which along a shallow ray is many
-// voxels earlier).
 // Per axis, the corners k = dx + 2 dy + 4 dz of a cell's face at 0 along it (as a mask and as a
 // list); the face at 1 holds the same corners plus that axis' bit.
 constexpr unsigned kLowerFace[3] = {0x55u, 0x33u, 0x0Fu};
@@ -134,6 +125,14 @@ constexpr int kCornerOffset[8] = {0,
                                   CrossingCells::kBrickDim + 1,
                                   CrossingCells::kBrickStride + CrossingCells::kBrickDim + 1};
 
+// The box and half-space of the non-positive points of the crossing cells in the 2^3 block at
+// leaf-local (x0, y0, z0) (which holds at least one), leaf-local. The box: in a cell, the
+// trilinear TSDF on the slice at a fixed position along one axis is bilinear in the other two, so
+// its least value lies on one of the 4 cell edges along that axis, and the slice holds a
+// non-positive point only where one of those edges is non-positive. So, per axis, the
+// non-positive points of the cell lie within the union of the non-positive spans of its 4 edges
+// along that axis: a box much thinner than the cell where the surface runs close to a voxel
+// plane. The half-space: see below.
 SurfaceBox surfaceBox(const LeafCells& leaf, const VoxelColumns& columns, int x0, int y0, int z0) {
   constexpr int kBlockDim = CrossingCells::kSurfaceBlockDim;
   constexpr int kBlockCells = kBlockDim * kBlockDim * kBlockDim;
