@@ -15,6 +15,15 @@ namespace semfuse::render::testing {
 
 inline const PinholeIntrinsics kSmallCamera{320, 240, 262.5, 262.5, 159.5, 119.5};
 
+// The volume the fused test scenes use: 1 cm voxels, 4 cm truncation (the defaults of issue 3).
+inline constexpr double kVoxel = 0.01;
+inline volume::VolumeParams fusedVolumeParams() {
+  volume::VolumeParams p;
+  p.voxel_size = kVoxel;
+  p.truncation = 0.04;
+  return p;
+}
+
 // Poses on an arc around target at the given distance and height, looking at it.
 inline std::vector<Pose> arcAround(const Eigen::Vector3d& target, double distance, double height, int count,
                                    double arc_rad = 1.2) {

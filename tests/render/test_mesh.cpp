@@ -17,7 +17,7 @@
 namespace semfuse::render {
 namespace {
 
-constexpr double kVoxel = 0.01;
+using testing::kVoxel;
 
 MeshOptions withMethod(MeshMethod method) {
   MeshOptions options;
@@ -38,10 +38,7 @@ class FusedSceneTest : public ::testing::Test {
     scene_->add({"plane", synthetic::OrientedBox{{0, 0, -0.1}, {1.0, 1.0, 0.1}, Eigen::Matrix3d::Identity()}, 1,
                  {200, 180, 150}, synthetic::Texture::kChecker});
     scene_->add({"sphere", synthetic::Sphere{{0.0, 0.0, 0.3}, 0.25}, 7, {200, 40, 40}, synthetic::Texture::kNoise});
-    volume::VolumeParams p;
-    p.voxel_size = kVoxel;
-    p.truncation = 0.04;
-    volume_ = new volume::LabeledVolume(p);
+    volume_ = new volume::LabeledVolume(testing::fusedVolumeParams());
     testing::fuse(*volume_, *scene_, testing::arcAround({0, 0, 0.2}, 1.1, 0.6, 8, 2.5));
   }
   static void TearDownTestSuite() {

@@ -16,14 +16,7 @@
 namespace semfuse::render {
 namespace {
 
-constexpr double kVoxel = 0.01;
-
-volume::VolumeParams params() {
-  volume::VolumeParams p;
-  p.voxel_size = kVoxel;
-  p.truncation = 0.04;
-  return p;
-}
+using testing::kVoxel;
 
 // A floor slab with its top face at z = 0.003 (inside the voxel layer above z = 0, so the
 // surface crosses the cells 0.3 voxel above their base) and a sphere on it.
@@ -91,7 +84,7 @@ class SurfaceDepthBoundsTest : public ::testing::Test {
   void SetUp() override { testing::fuse(volume_, scene_, testing::arcAround({0.1, 0.05, 0.2}, 1.2, 0.7, 6)); }
 
   synthetic::LabeledScene scene_ = floorAndSphere();
-  volume::LabeledVolume volume_{params()};
+  volume::LabeledVolume volume_{testing::fusedVolumeParams()};
 };
 
 // Every surface point the plain march finds lies inside its pixel's bounds, and the rays start

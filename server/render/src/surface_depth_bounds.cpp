@@ -36,7 +36,6 @@ constexpr float kBeyondAnyDepth = 1e30f;
 struct Footprints {
   std::vector<SurfaceDepthBounds::Rect> rects;
   float behind_camera_far = -kInf;
-  std::size_t blocks = 0;  // blocks with a crossing cell, projected or not
 };
 
 }  // namespace
@@ -68,7 +67,6 @@ SurfaceDepthBounds::SurfaceDepthBounds(const CrossingCells& cells, double voxel,
     Footprints& out = per_thread.local();
     for (std::size_t i = range.begin(); i < range.end(); ++i) {
       const SurfaceBox& box = boxes[i];
-      ++out.blocks;
       Rect r{};
       for (int a = 0; a < 3; ++a) {
         r.low[a] = static_cast<float>(box.lo[a] * s - camera_origin[a]);
@@ -127,7 +125,6 @@ SurfaceDepthBounds::SurfaceDepthBounds(const CrossingCells& cells, double voxel,
   open_far_ = -kInf;
   band_start_.assign(static_cast<std::size_t>(bandCount()) + 1, 0);
   for (const Footprints& f : per_thread) {
-    surface_blocks_ += f.blocks;
     open_far_ = std::max(open_far_, f.behind_camera_far);
     for (const Rect& r : f.rects)
       for (int band = r.v0 / kBandRows; band <= r.v1 / kBandRows; ++band) ++band_start_[band + 1];

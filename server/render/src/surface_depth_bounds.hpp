@@ -52,7 +52,7 @@ class SurfaceDepthBounds {
  public:
   static constexpr int kBandRows = 8;
 
-  // Projects the blocks of crossing cells of `cells` (voxel size `voxel`) seen by
+  // Projects the surface boxes of `cells` (findCrossings() done; voxel size `voxel`) seen by
   // `camera_to_world` with intrinsics `k`, limited to [min_depth, max_depth]; parallel (TBB).
   SurfaceDepthBounds(const CrossingCells& cells, double voxel, const PinholeIntrinsics& k,
                      const Pose& camera_to_world, double min_depth, double max_depth);
@@ -61,9 +61,6 @@ class SurfaceDepthBounds {
   int bandCount() const { return (height_ + kBandRows - 1) / kBandRows; }
   // Fills `out` with the bounds of every pixel of rows [band * kBandRows, ... + kBandRows).
   void rasterizeBand(int band, BandBounds& out) const;
-
-  // How many 2^3 blocks hold a crossing cell (for tests and benchmarks).
-  std::size_t surfaceBlocks() const { return surface_blocks_; }
 
   struct Rect {  // inclusive pixel-centre rectangle of one projected box, and the box itself
     int u0, u1, v0, v1;
@@ -80,7 +77,6 @@ class SurfaceDepthBounds {
   std::vector<std::size_t> band_start_;  // band b's rectangles: [band_start_[b], band_start_[b + 1])
   float open_near_ = 0.0f;               // every pixel's interval includes [open_near_, open_far_]
   float open_far_ = 0.0f;                // (empty, +inf > -inf, unless a box reaches behind the camera)
-  std::size_t surface_blocks_ = 0;
   float near_margin_ = 0.0f, far_margin_ = 0.0f;
   // Pixel (u, v)'s ray direction per unit of camera depth, world frame: du u + dv v + at_origin.
   double ray_du_[3] = {}, ray_dv_[3] = {}, ray_at_origin_[3] = {};
