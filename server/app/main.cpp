@@ -10,6 +10,7 @@
 #include "semfuse/core/cli_config.hpp"
 #include "semfuse/core/logging.hpp"
 #include "semfuse/core/thread_name.hpp"
+#include "malloc_tuning.hpp"
 #include "tbb_worker_names.hpp"
 
 int main(int argc, char** argv) {
@@ -27,6 +28,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "semfuse-server: %s\n", ok.error().c_str());
     return 2;
   }
+  semfuse::server::keepScratchResident();
 
   // Signals are turned into a stop request by a dedicated thread (sigwait), so shutdown runs in
   // normal code: finish queued frames, save the map.
