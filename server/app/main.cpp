@@ -9,8 +9,8 @@
 #include "fusion_server.hpp"
 #include "semfuse/core/cli_config.hpp"
 #include "semfuse/core/logging.hpp"
+#include "semfuse/core/malloc_tuning.hpp"
 #include "semfuse/core/thread_name.hpp"
-#include "malloc_tuning.hpp"
 #include "tbb_worker_names.hpp"
 
 int main(int argc, char** argv) {
@@ -28,7 +28,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "semfuse-server: %s\n", ok.error().c_str());
     return 2;
   }
-  semfuse::server::keepScratchResident();
+  semfuse::keepScratchResident();
 
   // Signals are turned into a stop request by a dedicated thread (sigwait), so shutdown runs in
   // normal code: finish queued frames, save the map.

@@ -13,6 +13,7 @@
 
 #include "bench_registry.hpp"
 #include "bench_support.hpp"
+#include "semfuse/core/malloc_tuning.hpp"
 #include "semfuse/datasets/seven_scenes.hpp"
 #include "semfuse/render/mesh.hpp"
 #include "semfuse/render/ply_writer.hpp"
@@ -83,6 +84,7 @@ std::vector<TimedRuns> timeRaycasts(const volume::LabeledVolume& map, const Pinh
 }
 
 int runRenderBench(const RenderBenchOptions& options) {
+  keepScratchResident();  // as semfuse-server does, whose work this times
   auto reader = datasets::SevenScenesReader::open(options.data);
   if (!reader) {
     std::fprintf(stderr, "semfuse-bench render: %s\n", reader.error().c_str());

@@ -15,6 +15,7 @@
 
 #include "bench_registry.hpp"
 #include "bench_support.hpp"
+#include "semfuse/core/malloc_tuning.hpp"
 #include "semfuse/datasets/seven_scenes.hpp"
 #include "semfuse/synthetic/synthetic_sequence.hpp"
 #include "semfuse/tracking/camera_tracking.hpp"
@@ -254,6 +255,7 @@ int report(const std::string& title, const RunResult& run, const std::string& at
 }
 
 int runTrackBench(const TrackBenchOptions& options) {
+  keepScratchResident();  // as semfuse-server does, whose work this times
   volume::VolumeParams params;
   params.voxel_size = options.voxel;
   params.truncation = options.truncation;

@@ -11,6 +11,7 @@
 
 #include "bench_registry.hpp"
 #include "bench_support.hpp"
+#include "semfuse/core/malloc_tuning.hpp"
 #include "semfuse/datasets/seven_scenes.hpp"
 #include "semfuse/volume/integrator.hpp"
 
@@ -188,6 +189,7 @@ int compareKernels(const datasets::SevenScenesReader& reader, const volume::Volu
 }
 
 int runVolumeBench(const VolumeBenchOptions& options) {
+  keepScratchResident();  // as semfuse-server does, whose work this times
   auto reader = datasets::SevenScenesReader::open(options.data);
   if (!reader) {
     std::fprintf(stderr, "semfuse-bench volume: %s\n", reader.error().c_str());

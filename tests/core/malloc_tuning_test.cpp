@@ -9,9 +9,9 @@
 
 #include <gtest/gtest.h>
 
-#include "malloc_tuning.hpp"
+#include "semfuse/core/malloc_tuning.hpp"
 
-namespace semfuse::server {
+namespace semfuse {
 namespace {
 
 constexpr std::size_t kScratchBytes = std::size_t{24} << 20;  // a raycast's copy of the leaves in view
@@ -59,4 +59,4 @@ TEST(MallocTuning, FreedScratchIsReusedWithoutPageFaults) {
 }
 
 }  // namespace
-}  // namespace semfuse::server
+}  // namespace semfuse

@@ -1,4 +1,4 @@
-#include "malloc_tuning.hpp"
+#include "semfuse/core/malloc_tuning.hpp"
 
 #include <spdlog/spdlog.h>
 
@@ -6,7 +6,7 @@
 #include <malloc.h>
 #endif
 
-namespace semfuse::server {
+namespace semfuse {
 
 bool keepScratchResident() {
 #if defined(__GLIBC__)
@@ -24,4 +24,4 @@ bool keepScratchResident() {
   return true;
 }
 
-}  // namespace semfuse::server
+}  // namespace semfuse
