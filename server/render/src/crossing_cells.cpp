@@ -136,8 +136,9 @@ constexpr int kCornerOffset[8] = {0,
 SurfaceBox surfaceBox(const LeafCells& leaf, const VoxelColumns& columns, int x0, int y0, int z0) {
   constexpr int kBlockDim = CrossingCells::kSurfaceBlockDim;
   constexpr int kBlockCells = kBlockDim * kBlockDim * kBlockDim;
+  using Corners = Eigen::Array<float, 8, 1>;  // of one cell, k = dx + 2 dy + 4 dz
   SurfaceBox box;
-  float corners[kBlockCells][8];  // of the block's crossing cells, k = dx + 2 dy + 4 dz
+  Corners corners[kBlockCells];  // of the block's crossing cells
   int cell_at[kBlockCells][3];
   int cells = 0;
   float edge_sum[3] = {0.0f, 0.0f, 0.0f};  // summed differences along the cells' edges, per axis
@@ -155,7 +156,7 @@ SurfaceBox surfaceBox(const LeafCells& leaf, const VoxelColumns& columns, int x0
         const unsigned below = (c00 & 1u) | (c10 & 1u) << 1 | (c01 & 1u) << 2 | (c11 & 1u) << 3 |
                                (c00 & 2u) << 3 | (c10 & 2u) << 4 | (c01 & 2u) << 5 | (c11 & 2u) << 6;
         const float* c = leaf.tsdf + kCornerOffset[1] * x + kCornerOffset[2] * y + z;
-        float* v = corners[cells];
+        Corners& v = corners[cells];
         for (int k = 0; k < 8; ++k) v[k] = c[kCornerOffset[k]];
         const int cell[3] = {x, y, z};
         for (int axis = 0; axis < 3; ++axis) cell_at[cells][axis] = cell[axis];
@@ -183,17 +184,21 @@ SurfaceBox surfaceBox(const LeafCells& leaf, const VoxelColumns& columns, int x0
   // no less than its least corner value, and f(p) <= 0 implies L(p) <= max over the corners of
   // (L - f). Over the block's crossing cells that gives g . p <= offset. The closer g follows the
   // TSDF's gradient, the closer that plane lies to the surface: g is the mean difference along
-  // the cells' edges.
+  // the cells' edges. The maximum is taken per corner k across the cells (8 lanes side by side:
+  // a chain as long as the number of cells, not 8 times that).
   float g[3];
   for (int a = 0; a < 3; ++a) g[a] = edge_sum[a] / static_cast<float>(4 * cells);
-  float offset = -std::numeric_limits<float>::infinity();
+  static const Corners kDx = (Corners() << 0, 1, 0, 1, 0, 1, 0, 1).finished();
+  static const Corners kDy = (Corners() << 0, 0, 1, 1, 0, 0, 1, 1).finished();
+  static const Corners kDz = (Corners() << 0, 0, 0, 0, 1, 1, 1, 1).finished();
+  const Corners g_at_corner = g[0] * kDx + g[1] * kDy + g[2] * kDz;  // g . (corner - base voxel)
+  Corners highest = Corners::Constant(-std::numeric_limits<float>::infinity());
   for (int i = 0; i < cells; ++i) {
-    const float base = g[0] * cell_at[i][0] + g[1] * cell_at[i][1] + g[2] * cell_at[i][2];
-    for (int k = 0; k < 8; ++k)
-      offset = std::max(offset, base + g[0] * (k & 1) + g[1] * ((k >> 1) & 1) + g[2] * (k >> 2) - corners[i][k]);
+    const float at_base = g[0] * cell_at[i][0] + g[1] * cell_at[i][1] + g[2] * cell_at[i][2];
+    highest = highest.max((at_base + g_at_corner) - corners[i]);
   }
   for (int a = 0; a < 3; ++a) box.normal[a] = g[a];
-  box.offset = offset;
+  box.offset = highest.maxCoeff();
   return box;
 }
 
