@@ -4,8 +4,6 @@
 #include <cmath>
 #include <limits>
 
-#include "semfuse/volume/cell_interpolation.hpp"
-
 namespace semfuse::render::detail {
 namespace {
 
@@ -76,26 +74,29 @@ struct CellPolynomial {
 };
 
 // That interpolant along a segment inside the cell, as a cubic g(s) = a0 + a1 s + a2 s^2 + a3 s^3
-// for s in [0, 1], from the segment's start (cell-local) and its extent. a2 and a3 alone are what
-// the curvature bound needs (curvatureKeepsPositive), so they have a function of their own.
+// for s in [0, 1], from the segment's start (cell-local) and its extent: a0 is the value at the
+// start, a1 the gradient there along the extent, a2 and a3 the cross terms. g(0) and g(1) are
+// the values where a ray enters and leaves the cell, so one cubic per cell answers all the walk
+// asks of it.
 struct SegmentCubic {
   double a0, a1, a2, a3;
 
   double value(double s) const { return a0 + s * (a1 + s * (a2 + s * a3)); }
   double slope(double s) const { return a1 + s * (2.0 * a2 + s * (3.0 * a3)); }
 };
-void curvatureTerms(const CellPolynomial& p, const double start[3], const double extent[3], double& a2, double& a3) {
-  const double x = start[0], y = start[1], z = start[2], ax = extent[0], ay = extent[1], az = extent[2];
-  a2 = p.c4 * ax * ay + p.c5 * ax * az + p.c6 * ay * az + p.c7 * (x * ay * az + y * ax * az + z * ax * ay);
-  a3 = p.c7 * ax * ay * az;
-}
 SegmentCubic segmentCubic(const CellPolynomial& p, const double start[3], const double extent[3]) {
   const double x = start[0], y = start[1], z = start[2], ax = extent[0], ay = extent[1], az = extent[2];
+  const double xy = x * y, xz = x * z, yz = y * z;
+  // The partial derivatives at the start.
+  const double dfdx = p.c1 + p.c4 * y + p.c5 * z + p.c7 * yz;
+  const double dfdy = p.c2 + p.c4 * x + p.c6 * z + p.c7 * xz;
+  const double dfdz = p.c3 + p.c5 * x + p.c6 * y + p.c7 * xy;
+  const double axay = ax * ay, axaz = ax * az, ayaz = ay * az;
   SegmentCubic g;
-  g.a0 = p.c0 + p.c1 * x + p.c2 * y + p.c3 * z + p.c4 * x * y + p.c5 * x * z + p.c6 * y * z + p.c7 * x * y * z;
-  g.a1 = p.c1 * ax + p.c2 * ay + p.c3 * az + p.c4 * (x * ay + y * ax) + p.c5 * (x * az + z * ax) +
-         p.c6 * (y * az + z * ay) + p.c7 * (x * y * az + x * z * ay + y * z * ax);
-  curvatureTerms(p, start, extent, g.a2, g.a3);
+  g.a0 = p.c0 + x * dfdx + y * (p.c2 + p.c6 * z) + p.c3 * z;
+  g.a1 = ax * dfdx + ay * dfdy + az * dfdz;
+  g.a2 = p.c4 * axay + p.c5 * axaz + p.c6 * ayaz + p.c7 * (x * ayaz + y * axaz + z * axay);
+  g.a3 = p.c7 * axay * az;
   return g;
 }
 
@@ -103,7 +104,7 @@ SegmentCubic segmentCubic(const CellPolynomial& p, const double start[3], const 
 // |g''| <= 2 |a2| + 6 |a3| on [0, 1], and g >= min(g(0), g(1)) - max|g''| / 8 there. Most
 // crossing cells a ray passes on their positive side are settled by this, without the rest of
 // the cubic.
-bool curvatureKeepsPositive(double a2, double a3, float lowest_end) {
+bool curvatureKeepsPositive(double a2, double a3, double lowest_end) {
   return lowest_end > 0.25 * std::abs(a2) + 0.75 * std::abs(a3);
 }
 
@@ -212,34 +213,23 @@ bool CellMarcher::findSurface(const MarchRay& ray, SurfaceHit& hit) const {
         constexpr int kX = CrossingCells::kBrickStride, kY = CrossingCells::kBrickDim;
         const float v[8] = {base[0],  base[kX],     base[kY],     base[kX + kY],
                             base[1],  base[kX + 1], base[kY + 1], base[kX + kY + 1]};
-        // The ray relative to the cell's base voxel.
+        // The ray relative to the cell's base voxel, and its segment through the cell: the
+        // interpolant along it is a cubic g in s = (t' - t) / (t_exit - t).
         const double rx = o.x() - cell[0], ry = o.y() - cell[1], rz = o.z() - cell[2];
-        auto valueAt = [&](double at) {
-          return volume::trilinear(v, static_cast<float>(rx + at * d.x()), static_cast<float>(ry + at * d.y()),
-                                   static_cast<float>(rz + at * d.z()));
-        };
-        const float f_in = valueAt(t);
-        if (f_in > 0.0f) {
-          const float f_out = valueAt(t_exit);
-          // The interpolant along the ray inside the cell is a cubic g in s = (t' - t) / (t_exit - t).
-          const CellPolynomial p(v);
-          const double start[3] = {rx + t * d.x(), ry + t * d.y(), rz + t * d.z()};
-          const double extent[3] = {(t_exit - t) * d.x(), (t_exit - t) * d.y(), (t_exit - t) * d.z()};
+        const double start[3] = {rx + t * d.x(), ry + t * d.y(), rz + t * d.z()};
+        const double extent[3] = {(t_exit - t) * d.x(), (t_exit - t) * d.y(), (t_exit - t) * d.z()};
+        const SegmentCubic g = segmentCubic(CellPolynomial(v), start, extent);
+        const double f_in = g.a0;
+        if (f_in > 0.0) {
+          const double f_out = g.value(1.0);
           // The bracket [0, s_end] of the crossing, with g(s_end) <= 0; none when s_end < 0.
           double s_end = -1.0, g_end = f_out;
-          SegmentCubic g{};
-          if (f_out <= 0.0f) {
+          if (f_out <= 0.0) {
             s_end = 1.0;
-            g = segmentCubic(p, start, extent);
-          } else {
+          } else if (!curvatureKeepsPositive(g.a2, g.a3, std::min(f_in, f_out))) {
             // Positive where the ray leaves too: the surface may still dip across the ray in between.
-            double a2, a3;
-            curvatureTerms(p, start, extent, a2, a3);
-            if (!curvatureKeepsPositive(a2, a3, std::min(f_in, f_out))) {
-              g = segmentCubic(p, start, extent);
-              s_end = lowestInteriorPoint(g);
-              if (s_end > 0.0) g_end = g.value(s_end);
-            }
+            s_end = lowestInteriorPoint(g);
+            if (s_end > 0.0) g_end = g.value(s_end);
           }
           if (s_end > 0.0) {
             // Shading reads the label of one of the cell's corners from the packed voxels, which
