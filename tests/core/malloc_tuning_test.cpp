@@ -19,7 +19,12 @@ namespace {
 // About what a raycast of the 7-Scenes map takes: the copy of the leaves in view, the TSDF
 // bricks, the images, the bounds, the regions (MiB).
 constexpr std::size_t kBlockMiB[] = {22, 14, 5, 4, 1};
-constexpr long kScratchPages = (22 + 14 + 5 + 4 + 1) * 256;  // of 4 KiB
+constexpr long scratchPages() {  // of 4 KiB
+  long mib = 0;
+  for (std::size_t block : kBlockMiB) mib += static_cast<long>(block);
+  return mib * 256;
+}
+constexpr long kScratchPages = scratchPages();
 constexpr int kQueries = 4;
 
 long minorFaults() {

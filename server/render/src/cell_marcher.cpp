@@ -102,8 +102,8 @@ SegmentCubic segmentCubic(const CellPolynomial& p, const double start[3], const 
 
 // True when g, at least `lowest_end` > 0 at both ends of [0, 1], cannot reach zero in between:
 // |g''| <= 2 |a2| + 6 |a3| on [0, 1], and g >= min(g(0), g(1)) - max|g''| / 8 there. Most
-// crossing cells a ray passes on their positive side are settled by this, without the rest of
-// the cubic.
+// crossing cells a ray passes on their positive side are settled by this, without looking for
+// the cubic's interior minimum.
 bool curvatureKeepsPositive(double a2, double a3, double lowest_end) {
   return lowest_end > 0.25 * std::abs(a2) + 0.75 * std::abs(a3);
 }

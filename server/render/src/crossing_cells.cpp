@@ -98,7 +98,7 @@ void summarizeBlocks(LeafCells& leaf) {
 
 // Surface boxes are widened by this much (voxels) on every side.
 constexpr float kBoxMarginVoxels = 0.01f;
-// And their half-spaces by this much TSDF (metres): the rays' trilinear values are floats.
+// And their half-spaces by this much TSDF (metres): boxes and half-spaces are float arithmetic.
 constexpr float kPlaneMarginTsdf = 1e-5f;
 
 // The part of [0, 1] where the linear interpolant from a (at 0) to b (at 1) is <= 0, for the 4
@@ -209,7 +209,7 @@ void addSurfaceBoxes(const LeafCells& leaf, const VoxelColumns& columns, std::ve
   for (uint64_t blocks = leaf.blocks2; blocks != 0; blocks &= blocks - 1) {
     const int bit = __builtin_ctzll(blocks);  // 16 bx + 4 by + bz
     SurfaceBox box = surfaceBox(leaf, columns, 2 * (bit >> 4), 2 * ((bit >> 2) & 3), 2 * (bit & 3));
-    // A hair wider: the rays' trilinear values are rounded floats.
+    // A hair wider: the box came from rounded float arithmetic.
     for (int a = 0; a < 3; ++a) {
       box.lo[a] += static_cast<float>(leaf.origin[a]) - kBoxMarginVoxels;
       box.hi[a] += static_cast<float>(leaf.origin[a]) + kBoxMarginVoxels;

@@ -18,7 +18,7 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 // unbounded, so the box cannot be reduced to a pixel rectangle.
 constexpr double kMinProjectableDepth = 1e-6;
 // The boxes are exact; the margins (voxels) only absorb rounding: of the float boxes, slabs and
-// depths here, and of the rays' float trilinear values.
+// depths here, and of the rays' values along their cells (double, from float corners).
 constexpr double kNearMarginVoxels = 0.05;
 constexpr double kFarMarginVoxels = 0.05;
 // Inverse ray direction components are clamped to this (a zero component gives +-inf, and 0 x inf

@@ -1,10 +1,10 @@
 #pragma once
 // For long-running processes that serve queries (semfuse-server; semfuse-bench, to time the
 // library as the server runs it). Every raycast query allocates tens of MB of scratch (the copy
-// of the leaves in view, the TSDF bricks, the per-pixel bounds, the images, the reply), and every
-// frame a few MB more. glibc serves blocks that large with mmap, or trims them off the heap as
-// soon as they are freed, so the next query takes all those pages again from the kernel: on the
-// 7-Scenes map about 12,000 page faults per raycast, ~10 ms of a 45 ms reply.
+// of the leaves in view, the TSDF bricks, the per-pixel bounds, the images, the reply). glibc
+// serves blocks that large with mmap, or trims them off the heap as soon as they are freed, so
+// the next query takes all those pages again from the kernel: on the 7-Scenes map about 12,000
+// page faults per raycast, ~10 ms of a 45 ms raycast (server/app/README.md).
 // keepScratchResident() makes glibc keep freed memory for reuse instead (up to a bound), so a
 // steady stream of queries faults nothing.
 #include <cstddef>
