@@ -64,6 +64,15 @@ TEST(LegendYaml, EachMistakeHasItsOwnMessage) {
   expectError(parseLegendYaml("name: x\nlabels: [{id: 1, name: \"wall\\nfloor\"}]"),
               "the name of label 1 has a control character at byte 4");
   expectError(parseLegendYaml("name: k\xe4\nlabels: [{id: 1, name: a}]"), "legend name is not valid UTF-8 at byte 1");
+  // Well-formed UTF-8 only: an overlong 'O' (C1 8F), a UTF-16 surrogate and a code point past U+10FFFF.
+  // The overlong one was found by the fuzzer: yaml-cpp wrote it back as a different name.
+  expectError(parseLegendYaml("name: x\nlabels: [{id: 3, name: \"a\xc1\x8ftable\"}]"),
+              "the name of label 3 is not valid UTF-8 at byte 1");
+  expectError(parseLegendYaml("name: \"x\xed\xa0\x80\"\nlabels: [{id: 1, name: a}]"),
+              "legend name is not valid UTF-8 at byte 1");
+  expectError(parseLegendYaml("name: \"x\xf4\x90\x80\x80\"\nlabels: [{id: 1, name: a}]"),
+              "legend name is not valid UTF-8 at byte 1");
+  EXPECT_TRUE(parseLegendYaml("name: \"\xf0\x9f\x8d\xb4 \xe2\x82\xac\"\nlabels: [{id: 1, name: a}]").ok());
   expectError(parseLegendYaml("name: x\nlabels: [{name: a}]", "m.yaml"), "m.yaml: label id must be an integer");
   EXPECT_TRUE(parseLegendYaml("name: k\u00fcche\nlabels: [{id: 1, name: \"\u6905\u5b50\"}]").ok());
 }

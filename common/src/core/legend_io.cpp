@@ -1,6 +1,7 @@
 #include "semfuse/core/legend_io.hpp"
 
 #include <algorithm>
+#include <cstdint>
 #include <fstream>
 #include <limits>
 #include <set>
@@ -35,18 +36,37 @@ Result<long long> integerIn(const YAML::Node& node, long long low, long long hig
   return value;
 }
 
+// The length of the well-formed UTF-8 sequence starting at `at`, or 0. Well-formed means RFC 3629:
+// no overlong forms (C1 8F is 'O' written in two bytes), no UTF-16 surrogates, nothing past
+// U+10FFFF. yaml-cpp's emitter rewrites such sequences, so a legend holding one would not read
+// back as written.
+std::size_t utf8SequenceLength(const std::string& text, std::size_t at) {
+  const auto byte = [&](std::size_t k) { return static_cast<unsigned char>(text[at + k]); };
+  const unsigned char lead = byte(0);
+  if (lead < 0x80) return 1;
+  const std::size_t length = (lead >> 5) == 0x6 ? 2 : (lead >> 4) == 0xe ? 3 : (lead >> 3) == 0x1e ? 4 : 0;
+  if (length == 0 || at + length > text.size()) return 0;
+  uint32_t code_point = lead & (0x7f >> length);
+  for (std::size_t k = 1; k < length; ++k) {
+    if ((byte(k) & 0xc0) != 0x80) return 0;
+    code_point = (code_point << 6) | (byte(k) & 0x3f);
+  }
+  constexpr uint32_t kSmallestOfLength[5] = {0, 0, 0x80, 0x800, 0x10000};
+  if (code_point < kSmallestOfLength[length]) return 0;           // overlong
+  if (code_point >= 0xd800 && code_point <= 0xdfff) return 0;     // surrogate
+  if (code_point > 0x10ffff) return 0;                            // past Unicode
+  return length;
+}
+
 // Names travel as DDS strings (UTF-8 for ROS 2), one per line in map files and through YAML,
-// so they must be valid UTF-8 without control characters (a newline would break the map file's
-// legend, invalid UTF-8 does not survive a YAML round trip).
+// so they must be well-formed UTF-8 without control characters (a newline would break the map
+// file's legend, malformed UTF-8 does not survive a YAML round trip).
 std::string nameProblem(const std::string& name) {
   for (std::size_t i = 0; i < name.size();) {
     const auto byte = static_cast<unsigned char>(name[i]);
     if (byte < 0x20 || byte == 0x7f) return "has a control character at byte " + std::to_string(i);
-    const std::size_t length = byte < 0x80 ? 1 : (byte >> 5) == 0x6 ? 2 : (byte >> 4) == 0xe ? 3 : (byte >> 3) == 0x1e ? 4 : 0;
-    if (length == 0 || i + length > name.size()) return "is not valid UTF-8 at byte " + std::to_string(i);
-    for (std::size_t k = 1; k < length; ++k) {
-      if ((static_cast<unsigned char>(name[i + k]) & 0xc0) != 0x80) return "is not valid UTF-8 at byte " + std::to_string(i);
-    }
+    const std::size_t length = utf8SequenceLength(name, i);
+    if (length == 0) return "is not valid UTF-8 at byte " + std::to_string(i);
     i += length;
   }
   return "";
