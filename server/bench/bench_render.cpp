@@ -127,7 +127,7 @@ int runRenderBench(const RenderBenchOptions& options) {
   baseline.skip_empty_space = false;
   render::RaycastOptions depth_only{render::kDepthLayer};
   const render::RaycastKernel kernel = render::raycastKernel();
-  // The portable voxel reader beside the default where the default is the AVX2 one.
+  // The portable kernels (voxel reader, bounds) beside the default where the default is AVX2.
   const bool compare_kernels = kernel == render::RaycastKernel::kAvx2;
   std::vector<RaycastVariant> variants{{fast, kernel}, {depth_only, kernel}};
   if (compare_kernels) variants.push_back({fast, render::RaycastKernel::kScalar});
@@ -202,8 +202,8 @@ int runRenderBench(const RenderBenchOptions& options) {
   table.addMs("  prepareRaycast (server, under lock)", prepare.wall,
               cpu(prepare) + "copy of the leaves in view, part of the above");
   if (compare_kernels)
-    table.addMs("  d+n+l, portable voxel reader", raycasts[2].wall,
-                cpu(raycasts[2]) + "the " + render::raycastKernelName(kernel) + " reader takes x" +
+    table.addMs("  d+n+l, portable kernels", raycasts[2].wall,
+                cpu(raycasts[2]) + "the " + render::raycastKernelName(kernel) + " kernels take x" +
                     formatNumber(raycast_fast.cpu.median() / raycasts[2].cpu.median(), 2) + " its CPU");
   table.addMs("mesh (surface nets + labels)", mesh_timings.wall,
               cpu(mesh_timings) + "target <= 100 ms; vdbfusion 262 ms (x" +

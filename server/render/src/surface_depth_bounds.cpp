@@ -9,6 +9,8 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
+#include "semfuse/render/raycast.hpp"
+
 namespace semfuse::render::detail {
 namespace {
 
@@ -21,14 +23,9 @@ constexpr double kMinProjectableDepth = 1e-6;
 // depths here, and of the rays' values along their cells (double, from float corners).
 constexpr double kNearMarginVoxels = 0.05;
 constexpr double kFarMarginVoxels = 0.05;
-// Inverse ray direction components are clamped to this (a zero component gives +-inf, and 0 x inf
-// would be NaN in the slab test).
-constexpr float kHugeInverse = 1e12f;
-// Smallest |slope| of a ray against a half-space (TSDF metres per metre of depth): a ray that
-// runs parallel to the plane then meets it beyond any depth, or never leaves it.
-constexpr float kTinySlope = 1e-12f;
-// Added to the near bound (and taken from the far bound) of a ray that misses a box.
-constexpr float kBeyondAnyDepth = 1e30f;
+using bounds_constants::kBeyondAnyDepth;
+using bounds_constants::kHugeInverse;
+using bounds_constants::kTinySlope;
 
 // What the blocks seen by one thread contribute: inclusive rectangles of pixel centres with their
 // boxes, and the far end of the boxes that reach behind the camera plane (they cannot
@@ -146,33 +143,54 @@ void SurfaceDepthBounds::rasterizeBand(int band, BandBounds& out) const {
   out.width_ = width_;
   const int rows = std::min(kBandRows, height_ - out.v_begin_);
   const std::size_t pixels = static_cast<std::size_t>(rows) * width_;
-  out.near_.assign(pixels, open_near_);
-  out.far_.assign(pixels, open_far_);
-  // Per pixel and world axis, the inverse of the ray's direction component (depth per metre along
-  // that axis), kept finite: a ray parallel to an axis gets a huge value of either sign, which puts
-  // a box's slab on that axis either around all depths or beyond any. (Float: the slab depths need
-  // no more than the margins allow, and the loop vectorises.)
-  out.inverse_direction_.resize(3 * pixels);
+  out.near_.assign(pixels + kBandPadding, open_near_);
+  out.far_.assign(pixels + kBandPadding, open_far_);
+  out.inverse_direction_.resize(3 * pixels + kBandPadding);
+  const BandView view{out.v_begin_,     rows,         width_,      out.near_.data(), out.far_.data(),
+                      out.inverse_direction_.data(), near_margin_, far_margin_};
+  const Rect* first = footprints_.data() + band_start_[band];
+  const Rect* last = footprints_.data() + band_start_[band + 1];
+  if (raycastKernel() == RaycastKernel::kAvx2) {
+    fillInverseDirectionsAvx2(view, ray_du_, ray_dv_, ray_at_origin_);
+    clipRectsAvx2(view, first, last);
+  } else {
+    fillInverseDirections(view, ray_du_, ray_dv_, ray_at_origin_);
+    clipRects(view, first, last);
+  }
+}
+
+// Per pixel and world axis, the inverse of the ray's direction component (depth per metre along
+// that axis), kept finite: a ray parallel to an axis gets a huge value of either sign, which puts
+// a box's slab on that axis either around all depths or beyond any. (Float: the slab depths need
+// no more than the margins allow, and the loop vectorises.)
+void fillInverseDirections(const SurfaceDepthBounds::BandView& band, const double ray_du[3], const double ray_dv[3],
+                           const double ray_at_origin[3]) {
+  const std::size_t pixels = band.pixels();
   for (int a = 0; a < 3; ++a)
-    for (int v = out.v_begin_; v < out.v_begin_ + rows; ++v) {
-      float* row = out.inverse_direction_.data() + a * pixels + static_cast<std::size_t>(v - out.v_begin_) * width_;
-      const auto du = static_cast<float>(ray_du_[a]), at_u0 = static_cast<float>(ray_dv_[a] * v + ray_at_origin_[a]);
-      for (int u = 0; u < width_; ++u)
+    for (int v = band.v_begin; v < band.v_begin + band.rows; ++v) {
+      float* row = band.inverse_direction + a * pixels + static_cast<std::size_t>(v - band.v_begin) * band.width;
+      const auto du = static_cast<float>(ray_du[a]), at_u0 = static_cast<float>(ray_dv[a] * v + ray_at_origin[a]);
+      for (int u = 0; u < band.width; ++u)
         row[u] = std::clamp(1.0f / (du * static_cast<float>(u) + at_u0), -kHugeInverse, kHugeInverse);
     }
-  const float near_margin = near_margin_, far_margin = far_margin_;
-  for (std::size_t i = band_start_[band]; i < band_start_[band + 1]; ++i) {
-    const Rect& f = footprints_[i];
+}
+
+void clipRects(const SurfaceDepthBounds::BandView& band, const SurfaceDepthBounds::Rect* first,
+               const SurfaceDepthBounds::Rect* last) {
+  const std::size_t pixels = band.pixels();
+  const float near_margin = band.near_margin, far_margin = band.far_margin;
+  for (const SurfaceDepthBounds::Rect* rect = first; rect != last; ++rect) {
+    const SurfaceDepthBounds::Rect& f = *rect;
     // Locals, so that the compiler can keep them in registers across the stores into the rows
     // (and vectorise the loop over u).
     const float lx = f.low[0], hx = f.high[0], ly = f.low[1], hy = f.high[1], lz = f.low[2], hz = f.high[2];
     const float plane_du = f.plane_du, plane_c = f.plane_c;
-    const int v0 = std::max(f.v0, out.v_begin_), v1 = std::min(f.v1, out.v_begin_ + rows - 1);
+    const int v0 = std::max(f.v0, band.v_begin), v1 = std::min(f.v1, band.v_begin + band.rows - 1);
     for (int v = v0; v <= v1; ++v) {
-      const std::size_t row_start = static_cast<std::size_t>(v - out.v_begin_) * width_;
-      float* __restrict near_row = out.near_.data() + row_start;
-      float* __restrict far_row = out.far_.data() + row_start;
-      const float* __restrict inv_x = out.inverse_direction_.data() + row_start;
+      const std::size_t row_start = static_cast<std::size_t>(v - band.v_begin) * band.width;
+      float* __restrict near_row = band.near + row_start;
+      float* __restrict far_row = band.far + row_start;
+      const float* __restrict inv_x = band.inverse_direction + row_start;
       const float* __restrict inv_y = inv_x + pixels;
       const float* __restrict inv_z = inv_y + pixels;
       const float plane_row = f.plane_dv * static_cast<float>(v) + f.plane_at_origin;

@@ -70,6 +70,19 @@ class SurfaceDepthBounds {
     float plane_du, plane_dv, plane_at_origin, plane_c;
   };
 
+  // One band's buffers as the per-pixel loops of rasterizeBand see them: `rows` rows of `width`
+  // pixels from row v_begin, each buffer padded by kBandPadding floats so that 8-lane loads and
+  // stores may run past a row's last pixel.
+  static constexpr int kBandPadding = 8;
+  struct BandView {
+    int v_begin, rows, width;
+    float* near;
+    float* far;
+    float* inverse_direction;  // per world axis, `rows * width` floats
+    float near_margin, far_margin;
+    std::size_t pixels() const { return static_cast<std::size_t>(rows) * width; }
+  };
+
  private:
   int width_ = 0;
   int height_ = 0;
@@ -81,5 +94,29 @@ class SurfaceDepthBounds {
   // Pixel (u, v)'s ray direction per unit of camera depth, world frame: du u + dv v + at_origin.
   double ray_du_[3] = {}, ray_dv_[3] = {}, ray_at_origin_[3] = {};
 };
+
+namespace bounds_constants {
+// Inverse ray direction components are clamped to this (a zero component gives +-inf, and 0 x inf
+// would be NaN in the slab test).
+constexpr float kHugeInverse = 1e12f;
+// Smallest |slope| of a ray against a half-space (TSDF metres per metre of depth): a ray that
+// runs parallel to the plane then meets it beyond any depth, or never leaves it.
+constexpr float kTinySlope = 1e-12f;
+// Added to the near bound (and taken from the far bound) of a ray that misses a box.
+constexpr float kBeyondAnyDepth = 1e30f;
+}  // namespace bounds_constants
+
+// rasterizeBand's two loops over pixels: the rays' inverse direction components, then each
+// rectangle of the band clipping its pixels' rays. The AVX2 versions (surface_depth_bounds_avx2.cpp;
+// only where raycastKernel() is kAvx2) compute the same floats in 8 lanes: the same operations in
+// the same order, no fused multiply-add.
+void fillInverseDirections(const SurfaceDepthBounds::BandView& band, const double ray_du[3], const double ray_dv[3],
+                           const double ray_at_origin[3]);
+void fillInverseDirectionsAvx2(const SurfaceDepthBounds::BandView& band, const double ray_du[3],
+                               const double ray_dv[3], const double ray_at_origin[3]);
+void clipRects(const SurfaceDepthBounds::BandView& band, const SurfaceDepthBounds::Rect* first,
+               const SurfaceDepthBounds::Rect* last);
+void clipRectsAvx2(const SurfaceDepthBounds::BandView& band, const SurfaceDepthBounds::Rect* first,
+                   const SurfaceDepthBounds::Rect* last);
 
 }  // namespace semfuse::render::detail

@@ -71,10 +71,11 @@ Result<PreparedRaycast> prepareRaycast(const volume::LabeledVolume& volume, cons
                                        const Pose& camera_to_world, const RaycastOptions& options = {});
 Result<RaycastImages> raycast(PreparedRaycast&& prepared);
 
-// The code that reads the voxels of the leaves in view before the rays run (their crossing masks
-// and float TSDF): AVX2 + F16C where the CPU has them (the default there), or portable. They give
-// bit-identical images (tests/render/test_raycast.cpp); choosing one is for that test and for
-// benchmarking. Process-wide; takes effect from the next raycast.
+// The data-parallel kernels that run before the rays (reading the voxels of the leaves in view
+// into crossing masks and float TSDF; the per-pixel depth bounds of each band of rows): AVX2 +
+// F16C where the CPU has them (the default there), or portable. They give bit-identical images
+// (tests/render/test_raycast.cpp); choosing one is for that test and for benchmarking.
+// Process-wide; takes effect from the next raycast.
 enum class RaycastKernel { kScalar, kAvx2 };
 RaycastKernel raycastKernel();
 bool raycastKernelAvailable(RaycastKernel kernel);  // kAvx2: built for x86-64 and the CPU has it
