@@ -5,6 +5,9 @@
 // or the bounds, and with them the images, would differ between the kernels.
 #include "surface_depth_bounds.hpp"
 
+#include <algorithm>
+#include <cstddef>
+
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #include <immintrin.h>
 #define SEMFUSE_HAVE_AVX2_BOUNDS 1
