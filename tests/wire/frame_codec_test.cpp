@@ -246,12 +246,12 @@ TEST(FrameCodecPayloads, TruncatedPngsAreRefused) {
   msg.depth._length = saved_depth._length * 2 / 3;
   auto depth = decodeFrame(msg);
   ASSERT_FALSE(depth.ok());
-  EXPECT_EQ(depth.error().rfind("depth: PNG payload does not decode", 0), 0u) << depth.error();
+  EXPECT_EQ(depth.error().rfind("depth: PNG payload does not decode: truncated", 0), 0u) << depth.error();
   msg.depth = saved_depth;
   msg.color._length = saved_color._length * 2 / 3;
   auto color = decodeFrame(msg);
   ASSERT_FALSE(color.ok());
-  EXPECT_EQ(color.error().rfind("color: PNG payload does not decode", 0), 0u) << color.error();
+  EXPECT_EQ(color.error().rfind("color: PNG payload does not decode: truncated", 0), 0u) << color.error();
   msg.color = saved_color;
   EXPECT_TRUE(decodeFrame(msg).ok());
 }

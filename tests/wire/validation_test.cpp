@@ -48,6 +48,32 @@ TEST(Validation, PngDeclaredSizeReadsTheHeader) {
   EXPECT_FALSE(pngDeclaredSize(header.data(), header.size()).ok());
 }
 
+TEST(Validation, PngChunksCompleteFindsEveryCut) {
+  std::vector<uint8_t> png;
+  ASSERT_TRUE(cv::imencode(".png", cv::Mat(30, 40, CV_16UC1, cv::Scalar(1234)), png));
+  EXPECT_TRUE(pngChunksComplete(png.data(), png.size()).ok());
+  // Cut anywhere after the signature: refused, naming what is missing (libpng would print to
+  // stderr first). Every length from the signature to one byte short of the whole file.
+  for (std::size_t cut = 8; cut < png.size(); ++cut) {
+    const Status status = pngChunksComplete(png.data(), cut);
+    ASSERT_FALSE(status.ok()) << "cut at " << cut;
+    EXPECT_EQ(status.error().rfind("truncated: ", 0), 0u) << status.error();
+  }
+  EXPECT_EQ(pngChunksComplete(png.data(), png.size() - 12).error(), "truncated: no IEND chunk in " +
+                                                                      std::to_string(png.size() - 12) + " bytes");
+  // Bytes after IEND are ignored, as decoders do.
+  std::vector<uint8_t> trailing(png);
+  trailing.insert(trailing.end(), {1, 2, 3});
+  EXPECT_TRUE(pngChunksComplete(trailing.data(), trailing.size()).ok());
+  // A chunk that declares more than the file holds: IHDR says 2^31 bytes.
+  std::vector<uint8_t> lying(png);
+  lying[8] = 0x80;
+  EXPECT_EQ(pngChunksComplete(lying.data(), lying.size()).error(),
+            "truncated: chunk 'IHDR' at byte 8 declares 2147483661 bytes, " + std::to_string(png.size() - 20) +
+                " left");
+  EXPECT_FALSE(pngChunksComplete(png.data(), 7).ok());
+}
+
 TEST(Validation, JpegDeclaredSizeIsReadFromTheFrameHeader) {
   for (int progressive : {0, 1}) {
     std::vector<uint8_t> jpeg;

@@ -87,6 +87,8 @@ Result<cv::Mat> decodeDepth(const semfuse_msg_dds__Frame_& msg, uint32_t width, 
   } else {  // png16
     auto declared = pngDeclaredSize(sequenceData(msg.depth), bytes);
     if (!declared) return makeError("depth: PNG payload does not decode: " + declared.error());
+    if (Status whole = pngChunksComplete(sequenceData(msg.depth), bytes); !whole)
+      return makeError("depth: PNG payload does not decode: " + whole.error());
     if (declared.value() != cv::Size(w, h)) {
       return makeError("depth: PNG declares " + std::to_string(declared.value().width) + "x" +
                        std::to_string(declared.value().height) + ", frame declares " + std::to_string(w) + "x" +
@@ -130,6 +132,10 @@ Result<cv::Mat> decodeColor(const semfuse_msg_dds__Frame_& msg, uint32_t width, 
                      std::to_string(h));
   }
   if (bytes == 0) return makeError("color: empty " + format + " payload");
+  if (encoding == "png") {
+    if (Status whole = pngChunksComplete(sequenceData(msg.color), bytes); !whole)
+      return makeError("color: PNG payload does not decode: " + whole.error());
+  }
   if (encoding == "jpeg") {
     auto rgb = decodeJpegRgb(sequenceData(msg.color), bytes, cv::Size(w, h));
     if (!rgb) return makeError("color: " + rgb.error());

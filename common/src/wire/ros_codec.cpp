@@ -142,6 +142,10 @@ Result<cv::Mat> compressedImageToMat(const sensor_msgs_msg_dds__CompressedImage_
   if (Status s = validateImageSize("compressed image", declared.value().width, declared.value().height); !s) {
     return makeError(s.error());
   }
+  if (png) {
+    if (Status whole = pngChunksComplete(msg.data._buffer, msg.data._length); !whole)
+      return makeError("compressed image: PNG payload does not decode: " + whole.error());
+  }
   if (jpeg) {
     auto decoded = decodeJpegRgbOrGrey(msg.data._buffer, msg.data._length, declared.value());
     if (!decoded) return makeError("compressed image: " + decoded.error());

@@ -107,6 +107,25 @@ Result<cv::Size> pngDeclaredSize(const uint8_t* data, std::size_t size) {
   return cv::Size(static_cast<int>(width), static_cast<int>(height));
 }
 
+Status pngChunksComplete(const uint8_t* data, std::size_t size) {
+  constexpr std::size_t kSignatureBytes = 8;
+  constexpr std::size_t kChunkOverhead = 12;  // length (4), type (4), CRC (4) around the data
+  if (data == nullptr || size < kSignatureBytes) return makeError("not a PNG (bad signature or header)");
+  std::size_t at = kSignatureBytes;
+  while (size - at >= kChunkOverhead) {
+    const uint64_t length = (uint64_t{data[at]} << 24) | (uint64_t{data[at + 1]} << 16) |
+                            (uint64_t{data[at + 2]} << 8) | data[at + 3];
+    const std::string type(reinterpret_cast<const char*>(data) + at + 4, 4);
+    if (length > size - at - kChunkOverhead) {
+      return makeError("truncated: chunk '" + type + "' at byte " + std::to_string(at) + " declares " +
+                       std::to_string(length) + " bytes, " + std::to_string(size - at - kChunkOverhead) + " left");
+    }
+    if (type == "IEND") return Status::Ok();
+    at += kChunkOverhead + static_cast<std::size_t>(length);
+  }
+  return makeError("truncated: no IEND chunk in " + std::to_string(size) + " bytes");
+}
+
 Result<cv::Size> jpegDeclaredSize(const uint8_t* data, std::size_t size) {
   if (data == nullptr || size < 4 || data[0] != 0xFF || data[1] != 0xD8) return makeError("not a JPEG (no SOI marker)");
   const auto be16 = [&](std::size_t at) { return static_cast<uint32_t>((data[at] << 8) | data[at + 1]); };

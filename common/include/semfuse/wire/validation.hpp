@@ -48,6 +48,11 @@ Status validateDecodedImage(const std::string& what, const std::string& format, 
 // The size a PNG declares in its header (checked before decoding, so that a small payload cannot
 // make the decoder allocate a huge image). Error when the bytes are not a PNG.
 Result<cv::Size> pngDeclaredSize(const uint8_t* data, std::size_t size);
+// Whether a PNG's chunks are all there: each chunk's declared length fits in what is left, and
+// the last is IEND (bytes after it are ignored, as decoders do). Checked before decoding because
+// libpng reports a cut file on stderr, outside our log, before OpenCV gives up on it. Chunk CRCs
+// are not checked here (libpng does).
+Status pngChunksComplete(const uint8_t* data, std::size_t size);
 // The same for a JPEG: the size in its first frame header (SOFn), found by walking the marker
 // segments as a decoder does. Without it a 300-byte JPEG declaring 30000x30000 pixels makes
 // OpenCV allocate gigabytes before the size can be compared with the frame's.
