@@ -2,6 +2,8 @@
 
 #include "semfuse/core/pose_check.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <sstream>
 
@@ -9,6 +11,11 @@
 
 namespace semfuse::wire {
 namespace {
+
+constexpr std::array<uint8_t, 8> kPngSignature = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+bool hasPngSignature(const uint8_t* data, std::size_t size) {
+  return size >= kPngSignature.size() && std::equal(kPngSignature.begin(), kPngSignature.end(), data);
+}
 
 std::string number(double value) {
   std::ostringstream out;
@@ -92,8 +99,7 @@ Status validateDecodedImage(const std::string& what, const std::string& format, 
 
 Result<cv::Size> pngDeclaredSize(const uint8_t* data, std::size_t size) {
   // 8-byte signature, then the IHDR chunk: length (4), "IHDR" (4), width (4, big-endian), height (4).
-  static const uint8_t kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-  if (data == nullptr || size < 24 || !std::equal(kSignature, kSignature + 8, data) ||
+  if (data == nullptr || size < 24 || !hasPngSignature(data, size) ||
       std::string(reinterpret_cast<const char*>(data) + 12, 4) != "IHDR") {
     return makeError("not a PNG (bad signature or header)");
   }
@@ -108,10 +114,9 @@ Result<cv::Size> pngDeclaredSize(const uint8_t* data, std::size_t size) {
 }
 
 Status pngChunksComplete(const uint8_t* data, std::size_t size) {
-  constexpr std::size_t kSignatureBytes = 8;
   constexpr std::size_t kChunkOverhead = 12;  // length (4), type (4), CRC (4) around the data
-  if (data == nullptr || size < kSignatureBytes) return makeError("not a PNG (bad signature or header)");
-  std::size_t at = kSignatureBytes;
+  if (data == nullptr || !hasPngSignature(data, size)) return makeError("not a PNG (bad signature or header)");
+  std::size_t at = kPngSignature.size();
   while (size - at >= kChunkOverhead) {
     const uint64_t length = (uint64_t{data[at]} << 24) | (uint64_t{data[at + 1]} << 16) |
                             (uint64_t{data[at + 2]} << 8) | data[at + 3];

@@ -48,8 +48,8 @@ Status validateDecodedImage(const std::string& what, const std::string& format, 
 // The size a PNG declares in its header (checked before decoding, so that a small payload cannot
 // make the decoder allocate a huge image). Error when the bytes are not a PNG.
 Result<cv::Size> pngDeclaredSize(const uint8_t* data, std::size_t size);
-// Whether a PNG's chunks are all there: each chunk's declared length fits in what is left, and
-// the last is IEND (bytes after it are ignored, as decoders do). Checked before decoding because
+// Whether a PNG's chunks are all there: the signature, then chunks whose declared lengths each
+// fit in what is left, the last one IEND (bytes after it are ignored, as decoders do). Checked before decoding because
 // libpng reports a cut file on stderr, outside our log, before OpenCV gives up on it. Chunk CRCs
 // are not checked here (libpng does).
 Status pngChunksComplete(const uint8_t* data, std::size_t size);
