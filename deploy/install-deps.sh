@@ -18,6 +18,7 @@ packages=(
   gnuplot-nox
   iproute2 procps openssl tcpdump iceoryx python3  # deploy profiles, PKI and tests (netns, ps, capture, shm, status JSON)
   clang libclang-rt-14-dev  # deploy/fuzz.sh: libFuzzer + sanitizers
+  clang-format  # deploy/check-format.sh (ctest source_format)
   libfastrtps-dev fastdds-tools fastddsgen  # tests/interop: an independent DDS peer (fastddsgen pulls in a JRE)
 )
 command -v npm >/dev/null 2>&1 || packages+=(npm)  # tests/interop/foxglove; nodesource's nodejs ships its own npm

@@ -48,7 +48,9 @@ Bytes withSelector(uint8_t selector, Bytes bytes) {
   return bytes;
 }
 template <class T>
-Bytes cdr(const T& msg) { return dds::serialize(msg); }
+Bytes cdr(const T& msg) {
+  return dds::serialize(msg);
+}
 
 // An 8x6 frame: a depth ramp, a colour gradient, a pose.
 Frame smallFrame() {
@@ -226,8 +228,8 @@ void rosSeeds(const Frame& frame) {
     owned.keepSequence(msg.data, std::move(padded));
     write("ros_image_cdr", "mono16-bigendian-padded", cdr(msg));
   }
-  for (const auto& [format, ext] : {std::pair<std::string, std::string>{"jpeg", ".jpg"}, {"png", ".png"},
-                                    {"rgb8; jpeg compressed bgr8", ".jpg"}}) {
+  for (const auto& [format, ext] :
+       {std::pair<std::string, std::string>{"jpeg", ".jpg"}, {"png", ".png"}, {"rgb8; jpeg compressed bgr8", ".jpg"}}) {
     cv::Mat bgr;
     cv::cvtColor(frame.color, bgr, cv::COLOR_RGB2BGR);
     Bytes payload;
@@ -255,7 +257,8 @@ void rosSeeds(const Frame& frame) {
   auto transform = wire::transformFromPose(pose, stamp, "world", "cam");
   write("ros_geometry_cdr", "transform", withSelector(1, cdr(transform.msg())));
   wire::OwnedMessage<tf2_msgs_msg_dds__TFMessage_> tf;
-  tf.keepSequence(tf.msg().transforms, std::vector<geometry_msgs_msg_dds__TransformStamped_>{transform.msg(), transform.msg()});
+  tf.keepSequence(tf.msg().transforms,
+                  std::vector<geometry_msgs_msg_dds__TransformStamped_>{transform.msg(), transform.msg()});
   write("ros_geometry_cdr", "tf-message", withSelector(2, cdr(tf.msg())));
 }
 
@@ -302,8 +305,9 @@ void textSeeds() {
   writeText("legend_yaml", "small.yaml",
             "name: kitchen\nlabels:\n  - {id: 0, name: unlabeled, color: [0, 0, 0]}\n"
             "  - {id: 1, name: wall, color: [120, 120, 120]}\n  - {id: 7, name: cup}\nbackground: [0]\n");
-  writeText("legend_yaml", "block.yaml",
-            "name: \"quoted name\"\nlabels:\n  - id: 3\n    name: table\n    color:\n      - 1\n      - 2\n      - 3\n");
+  writeText(
+      "legend_yaml", "block.yaml",
+      "name: \"quoted name\"\nlabels:\n  - id: 3\n    name: table\n    color:\n      - 1\n      - 2\n      - 3\n");
   writeText("server_config_yaml", "full.yaml",
             "domain-id: 3\nserver-id: lab\nvoxel-size: 0.02\ntruncation: 0.08\nmax-weight: 100\n"
             "max-label-score: 16\nmin-depth: 0.2\nmax-depth: 4\ncolor: false\nlegend: voc\n"

@@ -78,7 +78,8 @@ Result<cv::Mat> DnnSegmenter::forward(const cv::Mat& rgb) {
   const float* src = out.ptr<float>();
   float* dst = planes.ptr<float>();
   for (int p = 0; p < h * w; ++p)
-    for (int k = 0; k < classes; ++k) dst[static_cast<std::size_t>(k) * h * w + p] = src[static_cast<std::size_t>(p) * classes + k];
+    for (int k = 0; k < classes; ++k)
+      dst[static_cast<std::size_t>(k) * h * w + p] = src[static_cast<std::size_t>(p) * classes + k];
   return planes;
 }
 

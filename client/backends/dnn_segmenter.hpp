@@ -19,13 +19,13 @@ namespace semfuse::segmenter {
 enum class TensorLayout { kNchw, kNhwc };
 
 struct DnnOptions {
-  std::filesystem::path model;        // .pb (TensorFlow) or .onnx
+  std::filesystem::path model;  // .pb (TensorFlow) or .onnx
   int input_width = 257;
   int input_height = 257;
   TensorLayout layout = TensorLayout::kNchw;  // of the input and of the logits output
-  double mean = 127.5;                // x / 127.5 - 1 for the DeepLab models in ../shared/models
+  double mean = 127.5;                        // x / 127.5 - 1 for the DeepLab models in ../shared/models
   double scale = 1.0 / 127.5;
-  std::string output_name;            // empty: the network's last layer
+  std::string output_name;                         // empty: the network's last layer
   std::optional<std::filesystem::path> label_map;  // empty: identity
 };
 

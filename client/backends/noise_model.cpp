@@ -80,8 +80,8 @@ Result<Segmentation> addLabelNoise(const Segmentation& clean, const NoiseParams&
   if (params.candidates.size() < 2) return makeError("noise: needs at least two candidate labels");
   Segmentation noisy = clean;
   noisy.labels = clean.labels.clone();
-  noisy.confidence = clean.confidence.empty() ? cv::Mat(clean.labels.size(), CV_32FC1, cv::Scalar(1.0F))
-                                              : clean.confidence.clone();
+  noisy.confidence =
+      clean.confidence.empty() ? cv::Mat(clean.labels.size(), CV_32FC1, cv::Scalar(1.0F)) : clean.confidence.clone();
   // One stream per frame: frames are independent, and a rerun reproduces each of them.
   std::seed_seq seq{static_cast<uint32_t>(params.seed), static_cast<uint32_t>(params.seed >> 32),
                     static_cast<uint32_t>(frame_seq), static_cast<uint32_t>(frame_seq >> 32)};

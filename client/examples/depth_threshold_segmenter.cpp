@@ -6,8 +6,8 @@
 #include <csignal>
 #include <thread>
 
-#include <opencv2/core.hpp>
 #include <spdlog/spdlog.h>
+#include <opencv2/core.hpp>
 
 #include "semfuse/client/segmenter.hpp"
 #include "semfuse/dds/participant.hpp"
@@ -38,7 +38,7 @@ int main() {
   while (!g_stop) std::this_thread::sleep_for(std::chrono::milliseconds(200));
   segmenter.stop();
   const auto stats = segmenter.stats();
-  spdlog::info("published {} segmentations, skipped {} frames, {:.1f} ms per frame", stats.published,
-               stats.skipped, stats.meanSegmentMs());
+  spdlog::info("published {} segmentations, skipped {} frames, {:.1f} ms per frame", stats.published, stats.skipped,
+               stats.meanSegmentMs());
   return 0;
 }

@@ -16,15 +16,29 @@ namespace {
 wire::FrameEncoding wireEncoding(const CameraPublisherOptions& options) {
   wire::FrameEncoding encoding;
   switch (options.depth_encoding) {
-    case DepthEncoding::kRaw16: encoding.depth = "16UC1"; break;
-    case DepthEncoding::kRawFloat: encoding.depth = "32FC1"; break;
-    case DepthEncoding::kPng16: encoding.depth = "png16"; break;
+    case DepthEncoding::kRaw16:
+      encoding.depth = "16UC1";
+      break;
+    case DepthEncoding::kRawFloat:
+      encoding.depth = "32FC1";
+      break;
+    case DepthEncoding::kPng16:
+      encoding.depth = "png16";
+      break;
   }
   switch (options.color_encoding) {
-    case ColorEncoding::kNone: encoding.color = ""; break;
-    case ColorEncoding::kRaw: encoding.color = "rgb8"; break;
-    case ColorEncoding::kJpeg: encoding.color = "jpeg"; break;
-    case ColorEncoding::kPng: encoding.color = "png"; break;
+    case ColorEncoding::kNone:
+      encoding.color = "";
+      break;
+    case ColorEncoding::kRaw:
+      encoding.color = "rgb8";
+      break;
+    case ColorEncoding::kJpeg:
+      encoding.color = "jpeg";
+      break;
+    case ColorEncoding::kPng:
+      encoding.color = "png";
+      break;
   }
   encoding.jpeg_quality = options.jpeg_quality;
   return encoding;

@@ -2,6 +2,7 @@
 
 #include <mutex>
 
+#include "reply_decoding.hpp"
 #include "semfuse/dds/qos.hpp"
 #include "semfuse/dds/reader.hpp"
 #include "semfuse/dds/rpc.hpp"
@@ -10,7 +11,6 @@
 #include "semfuse/dds/waitset.hpp"
 #include "semfuse/wire/frame_codec.hpp"
 #include "semfuse/wire/message_codecs.hpp"
-#include "reply_decoding.hpp"
 
 namespace semfuse::client {
 namespace {
@@ -75,9 +75,8 @@ struct MapClient::Impl {
     dds::Sample<semfuse_srv_dds__Admin_Request_> request;
     request->command = command;
     dds::setString(request->path, path);
-    return call<semfuse_srv_dds__Admin_Response_>(admin, request, timeout, [](const auto& r) {
-      return detail::decodeStatus(r.server_status);
-    });
+    return call<semfuse_srv_dds__Admin_Response_>(admin, request, timeout,
+                                                  [](const auto& r) { return detail::decodeStatus(r.server_status); });
   }
 
   RaycastRpc raycast;
@@ -106,8 +105,12 @@ CallResult<RaycastImages> MapClient::raycast(const Pose& camera_to_world, const 
                                              uint32_t layers, Timeout timeout, float max_range) {
   dds::Sample<semfuse_srv_dds__Raycast_Request_> request;
   wire::poseToRowMajor(camera_to_world, request->camera_to_world);
-  request->intrinsics = {static_cast<uint32_t>(intrinsics.width), static_cast<uint32_t>(intrinsics.height),
-                         intrinsics.fx, intrinsics.fy, intrinsics.cx, intrinsics.cy};
+  request->intrinsics = {static_cast<uint32_t>(intrinsics.width),
+                         static_cast<uint32_t>(intrinsics.height),
+                         intrinsics.fx,
+                         intrinsics.fy,
+                         intrinsics.cx,
+                         intrinsics.cy};
   request->layers = layers;
   request->max_range = max_range;
   auto reply = impl_->raycast.call(*request, timeout);
@@ -117,9 +120,11 @@ CallResult<RaycastImages> MapClient::raycast(const Pose& camera_to_world, const 
     return {Failure::kServer, "server error " + std::to_string(r.status) + ": " + std::string(dds::replyMessage(r))};
   }
   RaycastImages images;
-  const std::pair<sensor_msgs_msg_dds__Image_*, cv::Mat*> layers_out[] = {
-      {&r.depth, &images.depth}, {&r.normals, &images.normals}, {&r.labels, &images.labels},
-      {&r.confidence, &images.confidence}, {&r.color, &images.color}};
+  const std::pair<sensor_msgs_msg_dds__Image_*, cv::Mat*> layers_out[] = {{&r.depth, &images.depth},
+                                                                          {&r.normals, &images.normals},
+                                                                          {&r.labels, &images.labels},
+                                                                          {&r.confidence, &images.confidence},
+                                                                          {&r.color, &images.color}};
   for (const auto& [image, mat] : layers_out) {
     auto decoded = detail::takeImage(*image);
     if (!decoded) return {Failure::kClient, "raycast reply: " + decoded.error()};
@@ -229,7 +234,8 @@ std::optional<ServerStatus> MapClient::waitForStatus(Timeout timeout) {
   const auto deadline = std::chrono::steady_clock::now() + timeout;
   for (;;) {
     if (auto s = latestStatus()) return s;
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    const auto left =
+        std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
     if (left.count() <= 0) return std::nullopt;
     static_cast<void>(impl_->status_waitset.wait(DDS_MSECS(left.count())));
   }
@@ -239,7 +245,8 @@ std::optional<LabelLegend> MapClient::waitForLegend(Timeout timeout) {
   const auto deadline = std::chrono::steady_clock::now() + timeout;
   for (;;) {
     if (auto l = latestLegend()) return l;
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    const auto left =
+        std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
     if (left.count() <= 0) return std::nullopt;
     static_cast<void>(impl_->legend_waitset.wait(DDS_MSECS(left.count())));
   }

@@ -43,8 +43,8 @@ Result<ImageLayout> imageLayout(const sensor_msgs_msg_dds__Image_& image) {
   layout.step = image.step == 0 ? layout.row_bytes : image.step;
   if (layout.step < layout.row_bytes ||
       image.data._length < layout.step * static_cast<uint64_t>(layout.rows - 1) + layout.row_bytes) {
-    return makeError("image data shorter than its " + std::to_string(layout.cols) + "x" +
-                     std::to_string(layout.rows) + " size");
+    return makeError("image data shorter than its " + std::to_string(layout.cols) + "x" + std::to_string(layout.rows) +
+                     " size");
   }
   return layout;
 }
@@ -148,8 +148,8 @@ ServerStatus decodeStatus(const semfuse_msg_dds__ServerStatus_& msg) {
   s.rss_bytes = msg.rss_bytes;
   for (uint32_t i = 0; i < msg.cameras._length; ++i) {
     const auto& c = msg.cameras._buffer[i];
-    s.cameras.push_back({str(c.camera_id), c.tracking_state, c.last_seq, c.frames_received,
-                         c.frames_integrated, c.frames_lost, c.frame_rate_hz, c.last_frame_age_s, c.stale});
+    s.cameras.push_back({str(c.camera_id), c.tracking_state, c.last_seq, c.frames_received, c.frames_integrated,
+                         c.frames_lost, c.frame_rate_hz, c.last_frame_age_s, c.stale});
   }
   for (uint32_t i = 0; i < msg.last_errors._length; ++i) {
     const auto& e = msg.last_errors._buffer[i];

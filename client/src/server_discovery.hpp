@@ -15,8 +15,7 @@ namespace semfuse::client::detail {
 // The participant key of a semfuse server on the participant's domain: the publisher of the
 // first status sample received within `timeout` (status is transient-local, so a running server's
 // latest sample arrives as soon as it is discovered). nullopt when none shows up.
-std::optional<dds_guid_t> findServerParticipant(const dds::Participant& participant,
-                                                std::chrono::milliseconds timeout);
+std::optional<dds_guid_t> findServerParticipant(const dds::Participant& participant, std::chrono::milliseconds timeout);
 
 // Waits until `writer` is matched with a reader of the participant `key`, or the timeout.
 bool waitForReaderOf(dds_entity_t writer, const dds_guid_t& key, std::chrono::milliseconds timeout);

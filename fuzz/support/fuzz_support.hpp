@@ -14,12 +14,12 @@ namespace semfuse::fuzz {
 
 // A fuzz invariant: unlike assert() it also holds in Release builds, and aborts so that both
 // libFuzzer and the ctest replay report the input.
-#define SEMFUSE_FUZZ_CHECK(condition)                                                        \
-  do {                                                                                      \
-    if (!(condition)) {                                                                     \
+#define SEMFUSE_FUZZ_CHECK(condition)                                                          \
+  do {                                                                                         \
+    if (!(condition)) {                                                                        \
       std::fprintf(stderr, "fuzz check failed: %s (%s:%d)\n", #condition, __FILE__, __LINE__); \
-      std::abort();                                                                         \
-    }                                                                                       \
+      std::abort();                                                                            \
+    }                                                                                          \
   } while (0)
 
 // A private folder for targets whose code under test reads files (map files, dataset lists),
@@ -36,9 +36,9 @@ inline const std::filesystem::path& scratchFolder() {
   }();
   static const bool cleanup_registered = [] {
     return std::atexit([] {
-      std::error_code ignored;
-      std::filesystem::remove_all(*folder, ignored);
-    }) == 0;
+             std::error_code ignored;
+             std::filesystem::remove_all(*folder, ignored);
+           }) == 0;
   }();
   (void)cleanup_registered;
   return *folder;

@@ -29,10 +29,11 @@ std::vector<std::filesystem::path> inputsUnder(const std::filesystem::path& root
 
 int main(int argc, char** argv) {
   if (argc < 2 || std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0) {
-    std::printf("usage: %s FILE_OR_FOLDER...\n"
-                "Runs each file (folders: every file under them) through this fuzz target once.\n"
-                "Exit 0 when all ran; a crash or a failed check aborts.\n",
-                argv[0]);
+    std::printf(
+        "usage: %s FILE_OR_FOLDER...\n"
+        "Runs each file (folders: every file under them) through this fuzz target once.\n"
+        "Exit 0 when all ran; a crash or a failed check aborts.\n",
+        argv[0]);
     return argc < 2 ? 2 : 0;
   }
   std::size_t ran = 0;

@@ -2,8 +2,8 @@
 // A small labeled map for the query fuzz target and the map-file seeds: a 5 cm volume with two
 // labeled walls at different depths seen from one pose, so raycasts, regions, objects and
 // meshes all have something to find. `pixels_across` scales the view (and the file size).
-#include <cstdlib>
 #include <cstdio>
+#include <cstdlib>
 
 #include <opencv2/core.hpp>
 

@@ -11,8 +11,8 @@
 #include "semfuse/volume/map_file.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  const auto path = semfuse::fuzz::writeScratchFile(
-      "map.vdb", std::string_view(reinterpret_cast<const char*>(data), size));
+  const auto path =
+      semfuse::fuzz::writeScratchFile("map.vdb", std::string_view(reinterpret_cast<const char*>(data), size));
   auto map = semfuse::volume::loadMap(path);
   if (!map) return 0;
   SEMFUSE_FUZZ_CHECK(map.value().format_version >= 1 &&

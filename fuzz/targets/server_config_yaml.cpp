@@ -20,8 +20,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   std::string log_level;
   app.add_option("--log-level", log_level);
   semfuse::server::addServerOptions(app, config);
-  const auto path = semfuse::fuzz::writeScratchFile(
-      "server.yaml", std::string_view(reinterpret_cast<const char*>(data), size));
+  const auto path =
+      semfuse::fuzz::writeScratchFile("server.yaml", std::string_view(reinterpret_cast<const char*>(data), size));
   const std::string config_arg = path.string();
   const char* argv[] = {"semfuse-server", "--config", config_arg.c_str()};
   try {

@@ -53,8 +53,11 @@ void raycast(const semfuse_srv_dds__Raycast_Request_& request) {
   const uint64_t pixels = uint64_t{request.intrinsics.width} * request.intrinsics.height;
   if (pixels > kMaxRaycastPixels) return;
   const PinholeIntrinsics intrinsics{static_cast<int>(request.intrinsics.width),
-                                     static_cast<int>(request.intrinsics.height), request.intrinsics.fx,
-                                     request.intrinsics.fy, request.intrinsics.cx, request.intrinsics.cy};
+                                     static_cast<int>(request.intrinsics.height),
+                                     request.intrinsics.fx,
+                                     request.intrinsics.fy,
+                                     request.intrinsics.cx,
+                                     request.intrinsics.cy};
   if (!wire::validateIntrinsics(intrinsics)) return;
   const Pose pose = wire::poseFromRowMajor(request.camera_to_world);
   if (!wire::validatePose(pose)) return;

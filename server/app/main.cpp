@@ -3,8 +3,8 @@
 #include <cstdio>
 #include <thread>
 
-#include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
 
 #include "fusion_server.hpp"
 #include "semfuse/core/cli_config.hpp"
@@ -15,8 +15,9 @@
 
 int main(int argc, char** argv) {
   semfuse::server::ServerConfig config;
-  CLI::App app{"semfuse-server: fuses RGB-D frames and per-pixel labels from DDS clients into one labeled "
-               "TSDF map (OpenVDB) and answers raycast, label, object, mesh and admin queries."};
+  CLI::App app{
+      "semfuse-server: fuses RGB-D frames and per-pixel labels from DDS clients into one labeled "
+      "TSDF map (OpenVDB) and answers raycast, label, object, mesh and admin queries."};
   app.option_defaults()->always_capture_default();
   std::string log_level;
   semfuse::addYamlConfig(app);

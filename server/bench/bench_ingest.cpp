@@ -416,59 +416,91 @@ void printResults(const std::vector<RunResult>& runs, const IngestOptions& optio
     m.add(std::move(r));
   };
   auto integrated = [](const RunResult& run) {
-    return static_cast<std::size_t>(std::count_if(run.poses.begin(), run.poses.end(), [](const auto& p) { return p.integrated; }));
+    return static_cast<std::size_t>(
+        std::count_if(run.poses.begin(), run.poses.end(), [](const auto& p) { return p.integrated; }));
   };
-  row("frames sent (publishers)", [](const RunResult& r) {
-    return std::to_string(r.sent) + " (" + formatNumber(r.sent / r.duration_s, 1) + "/s)";
-  }, "30/s per camera");
-  row("publisher: slots skipped / write failures", [](const RunResult& r) {
-    return std::to_string(r.skipped_slots) + " / " + std::to_string(r.write_failures);
-  }, "0 / 0");
-  row("publisher: write() ms p50/p95", [](const RunResult& r) {
-    return formatNumber(r.write_ms.median(), 1) + " / " + formatNumber(r.write_ms.p95(), 1);
-  }, "blocks while the server lags");
-  row("server received (status)", [](const RunResult& r) {
-    return std::to_string(r.after.frames_received - r.before.frames_received);
-  }, "= sent");
-  row("integrated/s (poses topic)", [&](const RunResult& r) { return formatNumber(integrated(r) / r.duration_s, 1); },
+  row(
+      "frames sent (publishers)",
+      [](const RunResult& r) { return std::to_string(r.sent) + " (" + formatNumber(r.sent / r.duration_s, 1) + "/s)"; },
+      "30/s per camera");
+  row(
+      "publisher: slots skipped / write failures",
+      [](const RunResult& r) { return std::to_string(r.skipped_slots) + " / " + std::to_string(r.write_failures); },
+      "0 / 0");
+  row(
+      "publisher: write() ms p50/p95",
+      [](const RunResult& r) {
+        return formatNumber(r.write_ms.median(), 1) + " / " + formatNumber(r.write_ms.p95(), 1);
+      },
+      "blocks while the server lags");
+  row(
+      "server received (status)",
+      [](const RunResult& r) { return std::to_string(r.after.frames_received - r.before.frames_received); }, "= sent");
+  row(
+      "integrated/s (poses topic)", [&](const RunResult& r) { return formatNumber(integrated(r) / r.duration_s, 1); },
       "30 x cameras");
-  row("integrated/s (status)", [](const RunResult& r) {
-    return formatNumber(static_cast<double>(r.after.frames_integrated - r.before.frames_integrated) / r.duration_s, 1);
-  }, "30 x cameras");
-  row("drops (status, by reason)", [](const RunResult& r) { return counterDelta(r.before.dropped, r.after.dropped); },
+  row(
+      "integrated/s (status)",
+      [](const RunResult& r) {
+        return formatNumber(static_cast<double>(r.after.frames_integrated - r.before.frames_integrated) / r.duration_s,
+                            1);
+      },
+      "30 x cameras");
+  row(
+      "drops (status, by reason)", [](const RunResult& r) { return counterDelta(r.before.dropped, r.after.dropped); },
       "0");
-  row("rejections (status, by reason)",
+  row(
+      "rejections (status, by reason)",
       [](const RunResult& r) { return counterDelta(r.before.rejected, r.after.rejected); }, "0");
-  row("sent but never received", [](const RunResult& r) {
-    const auto received = r.after.frames_received - r.before.frames_received;
-    return std::to_string(static_cast<int64_t>(r.sent) - static_cast<int64_t>(received));
-  }, "0 (DDS keep-last overwrite)");
-  row("latency publish->pose ms p50/p95", [](const RunResult& r) {
-    Timings t;
-    for (const auto& p : r.poses) t.add(p.latency_ms);
-    return t.count() ? formatNumber(t.median(), 1) + " / " + formatNumber(t.p95(), 1) : std::string("-");
-  }, "p50 <= 30");
-  row("server track+integrate ms p50/p95", [](const RunResult& r) {
-    Timings t;
-    for (const auto& p : r.poses) t.add(p.server_ms);
-    return t.count() ? formatNumber(t.median(), 1) + " / " + formatNumber(t.p95(), 1) : std::string("-");
-  }, "(from TrackedPose)");
-  row("fusion busy: sum(track+integrate) / run", [](const RunResult& r) {
-    double busy = 0;
-    for (const auto& p : r.poses) busy += p.server_ms;
-    return formatNumber(busy / (r.duration_s * 10.0), 0) + " %";
-  }, "< 100 %");
-  row("server CPU (100 % = 1 core)", [](const RunResult& r) { return formatNumber(r.cpu_percent, 0) + " %"; },
+  row(
+      "sent but never received",
+      [](const RunResult& r) {
+        const auto received = r.after.frames_received - r.before.frames_received;
+        return std::to_string(static_cast<int64_t>(r.sent) - static_cast<int64_t>(received));
+      },
+      "0 (DDS keep-last overwrite)");
+  row(
+      "latency publish->pose ms p50/p95",
+      [](const RunResult& r) {
+        Timings t;
+        for (const auto& p : r.poses) t.add(p.latency_ms);
+        return t.count() ? formatNumber(t.median(), 1) + " / " + formatNumber(t.p95(), 1) : std::string("-");
+      },
+      "p50 <= 30");
+  row(
+      "server track+integrate ms p50/p95",
+      [](const RunResult& r) {
+        Timings t;
+        for (const auto& p : r.poses) t.add(p.server_ms);
+        return t.count() ? formatNumber(t.median(), 1) + " / " + formatNumber(t.p95(), 1) : std::string("-");
+      },
+      "(from TrackedPose)");
+  row(
+      "fusion busy: sum(track+integrate) / run",
+      [](const RunResult& r) {
+        double busy = 0;
+        for (const auto& p : r.poses) busy += p.server_ms;
+        return formatNumber(busy / (r.duration_s * 10.0), 0) + " %";
+      },
+      "< 100 %");
+  row(
+      "server CPU (100 % = 1 core)", [](const RunResult& r) { return formatNumber(r.cpu_percent, 0) + " %"; },
       "of 200 % here");
-  row("server RSS peak MiB", [](const RunResult& r) { return formatNumber(r.rss_peak_mib, 0); }, "bounded");
-  row("raycast 640x480 d+n+l ms p50/p95", [](const RunResult& r) {
-    if (r.raycast_ms.count() == 0 && r.raycast_failures == 0) return std::string("-");
-    return formatNumber(r.raycast_ms.median(), 1) + " / " + formatNumber(r.raycast_ms.p95(), 1) + " (n=" +
-           std::to_string(r.raycast_ms.count()) + (r.raycast_failures ? ", failed " + std::to_string(r.raycast_failures) : "") + ")";
-  }, "p50 <= 50 (2 cameras)");
-  row("load average 1 min start/end", [](const RunResult& r) {
-    return formatNumber(r.load_start, 2) + " / " + formatNumber(r.load_end, 2);
-  }, "2 cores");
+  row(
+      "server RSS peak MiB", [](const RunResult& r) { return formatNumber(r.rss_peak_mib, 0); }, "bounded");
+  row(
+      "raycast 640x480 d+n+l ms p50/p95",
+      [](const RunResult& r) {
+        if (r.raycast_ms.count() == 0 && r.raycast_failures == 0) return std::string("-");
+        return formatNumber(r.raycast_ms.median(), 1) + " / " + formatNumber(r.raycast_ms.p95(), 1) +
+               " (n=" + std::to_string(r.raycast_ms.count()) +
+               (r.raycast_failures ? ", failed " + std::to_string(r.raycast_failures) : "") + ")";
+      },
+      "p50 <= 50 (2 cameras)");
+  row(
+      "load average 1 min start/end",
+      [](const RunResult& r) { return formatNumber(r.load_start, 2) + " / " + formatNumber(r.load_end, 2); },
+      "2 cores");
   m.print();
 
   std::printf("\nserver threads, CPU %% during each run (top 5; 100 %% = 1 core):\n");
@@ -482,19 +514,25 @@ void printResults(const std::vector<RunResult>& runs, const IngestOptions& optio
                 formatNumber(idle_raycast->raycast_ms.median(), 1).c_str(),
                 formatNumber(idle_raycast->raycast_ms.p95(), 1).c_str(), idle_raycast->raycast_ms.count());
   for (const auto& run : runs)
-    if (!run.raycast_error.empty()) std::printf("%s: last raycast error: %s\n", run.title.c_str(), run.raycast_error.c_str());
-  std::printf("\nconditions: %zu 7-Scenes frames preloaded, depth %s (%.0f kB), colour jpeg (%.0f kB), poses given;"
-              " %.0f s per run at %.0f Hz per camera; map reset before each run; %u cores\n",
-              data.frames.size(), options.depth == "png" ? "png16" : "raw 16UC1", data.depth_kb, data.color_kb,
-              options.duration_s, options.rate_hz, std::thread::hardware_concurrency());
+    if (!run.raycast_error.empty())
+      std::printf("%s: last raycast error: %s\n", run.title.c_str(), run.raycast_error.c_str());
+  std::printf(
+      "\nconditions: %zu 7-Scenes frames preloaded, depth %s (%.0f kB), colour jpeg (%.0f kB), poses given;"
+      " %.0f s per run at %.0f Hz per camera; map reset before each run; %u cores\n",
+      data.frames.size(), options.depth == "png" ? "png16" : "raw 16UC1", data.depth_kb, data.color_kb,
+      options.duration_s, options.rate_hz, std::thread::hardware_concurrency());
 }
 
 // ---------------------------------------------------------------------------------------------
 class IngestBench {
  public:
   IngestBench(const IngestOptions& options, const Preloaded& data, dds_domainid_t domain)
-      : options_(options), data_(data), participant_(domain), frame_topic_(participant_, dds::topics::kFrames),
-        map_(participant_), poses_(participant_) {}
+      : options_(options),
+        data_(data),
+        participant_(domain),
+        frame_topic_(participant_, dds::topics::kFrames),
+        map_(participant_),
+        poses_(participant_) {}
 
   // Runs every configuration; the server must already be up and `pid` its process.
   int run(pid_t pid) {
@@ -566,7 +604,8 @@ class IngestBench {
 
     // Cameras start together but with phases spread over one period, as independent sensors
     // would be; camera k replays the sequence from k/N of it.
-    const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / options_.rate_hz));
+    const auto period =
+        std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / options_.rate_hz));
     const auto slots = static_cast<std::size_t>(duration_s * options_.rate_hz);
     const auto start = Clock::now() + std::chrono::milliseconds(100);
     std::vector<CameraResult> results(static_cast<std::size_t>(cameras));
@@ -580,8 +619,9 @@ class IngestBench {
                            prefix + std::to_string(k), first, start + period * k / cameras, period, slots,
                            std::ref(results[static_cast<std::size_t>(k)]), k == 0 ? &camera0_index : nullptr);
     }
-    if (with_raycast) raycastUntil(start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(duration_s)),
-                                   camera0_index, run);
+    if (with_raycast)
+      raycastUntil(start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(duration_s)),
+                   camera0_index, run);
     for (auto& t : threads) t.join();
     const CpuSample cpu_end = sampleCpu(pid);
     run.load_end = loadAverage();
@@ -594,7 +634,8 @@ class IngestBench {
       const double used = thread.seconds - (was == cpu_start.threads.end() ? 0.0 : was->second.seconds);
       run.top_threads.emplace_back(thread.name + "(" + std::to_string(tid) + ")", used / window_s * 100.0);
     }
-    std::sort(run.top_threads.begin(), run.top_threads.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
+    std::sort(run.top_threads.begin(), run.top_threads.end(),
+              [](const auto& a, const auto& b) { return a.second > b.second; });
     run.top_threads.resize(std::min<std::size_t>(run.top_threads.size(), 5));
 
     for (const auto& r : results) {
@@ -700,7 +741,7 @@ int runIngestBench(const IngestOptions& options) {
   ::setenv("CYCLONEDDS_URI", ("file://" + profile).c_str(), 1);  // before the first participant
   const int domain = options.domain >= 0 ? options.domain : 200 + static_cast<int>(::getpid() % 30);
   std::vector<std::string> args{options.server, "--domain-id", std::to_string(domain), "--dds-profile", profile,
-                                "--log-level", "warn"};
+                                "--log-level",  "warn"};
   args.insert(args.end(), options.server_args.begin(), options.server_args.end());
   std::printf("server: %s (domain %d)\n", options.server.c_str(), domain);
   auto server = ServerProcess::start(args);
@@ -727,14 +768,18 @@ const bool registered = registerBench(
       auto options = std::make_shared<IngestOptions>();
       command.add_option("--server", options->server, "semfuse-server executable")->capture_default_str();
       command.add_option("--data", options->data, "7-Scenes sequence folder")->capture_default_str();
-      command.add_option("--frames", options->frames, "frames to preload (the cameras replay them)")->capture_default_str();
+      command.add_option("--frames", options->frames, "frames to preload (the cameras replay them)")
+          ->capture_default_str();
       command.add_option("--duration", options->duration_s, "seconds per run")->capture_default_str();
       command.add_option("--rate", options->rate_hz, "frames per second per camera")->capture_default_str();
       command.add_option("--cameras", options->cameras, "camera counts to run")->delimiter(',')->capture_default_str();
       command.add_option("--depth", options->depth, "depth encoding on the wire")
-          ->check(CLI::IsMember({"raw", "png"}))->capture_default_str();
-      command.add_option("--raycast-duration", options->raycast_duration_s,
-                         "seconds of 2 cameras + raycast queries (0 = skip)")->capture_default_str();
+          ->check(CLI::IsMember({"raw", "png"}))
+          ->capture_default_str();
+      command
+          .add_option("--raycast-duration", options->raycast_duration_s,
+                      "seconds of 2 cameras + raycast queries (0 = skip)")
+          ->capture_default_str();
       command.add_option("--raycast-period-ms", options->raycast_period_ms, "one raycast every ... ms")
           ->capture_default_str();
       command.add_option("--domain-id", options->domain, "DDS domain (-1 = from the pid)")->capture_default_str();

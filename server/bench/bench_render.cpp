@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include <opencv2/core.hpp>
 #include <tbb/global_control.h>
+#include <opencv2/core.hpp>
 
 #include "bench_registry.hpp"
 #include "bench_support.hpp"
@@ -105,10 +105,11 @@ int runRenderBench(const RenderBenchOptions& options) {
     return 2;
   }
   const PinholeIntrinsics k = first.value().intrinsics;  // with the image size filled in
-  std::printf("semfuse-bench render: map of %zu frames of %s, voxel %.3f m, truncation %.3f m, %d threads, %s voxel reader\n",
-              frames, options.data.c_str(), params.voxel_size, params.truncation,
-              static_cast<int>(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism)),
-              render::raycastKernelName(render::raycastKernel()));
+  std::printf(
+      "semfuse-bench render: map of %zu frames of %s, voxel %.3f m, truncation %.3f m, %d threads, %s voxel reader\n",
+      frames, options.data.c_str(), params.voxel_size, params.truncation,
+      static_cast<int>(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism)),
+      render::raycastKernelName(render::raycastKernel()));
   Stopwatch build_watch;
   auto map = buildMap(reader.value(), params, frames);
   if (!map) {
@@ -212,30 +213,29 @@ int runRenderBench(const RenderBenchOptions& options) {
               cpu(mesh_vtm_timings) + "surface nets take x" +
                   formatNumber(mesh_timings.cpu.median() / mesh_vtm_timings.cpu.median(), 2) + " its CPU");
   table.add("mesh size", std::to_string(vertices) + " vertices", std::to_string(triangles) + " triangles");
-  table.add("  VolumeToMesh", std::to_string(vtm_vertices) + " vertices",
-            std::to_string(vtm_triangles) + " triangles");
+  table.add("  VolumeToMesh", std::to_string(vtm_vertices) + " vertices", std::to_string(vtm_triangles) + " triangles");
   table.addMs("PLY to memory", ply_timings, formatNumber(ply_size / (1024.0 * 1024.0), 1) + " MiB");
   table.add("map", std::to_string(map.value().allocatedLeaves()) + " leaves",
             "built in " + formatNumber(build_s, 1) + " s (untimed above)");
-  table.add("load average (1 min) at the end", formatNumber(loadAverage()), "2 cores; above 2 the wall times are inflated");
+  table.add("load average (1 min) at the end", formatNumber(loadAverage()),
+            "2 cores; above 2 the wall times are inflated");
   table.print();
   return 0;
 }
 
-const bool registered = registerBench(
-    "render", "raycast and mesh speed on the 7-Scenes map", [](CLI::App& command) {
-      auto options = std::make_shared<RenderBenchOptions>();
-      command.add_option("--data", options->data, "7-Scenes sequence folder")->capture_default_str();
-      command.add_option("--frames", options->frames, "frames to integrate (from frame 0)")->capture_default_str();
-      command.add_option("--voxel", options->voxel, "voxel size, metres")->capture_default_str();
-      command.add_option("--trunc", options->truncation, "truncation, metres")->capture_default_str();
-      command.add_option("--views", options->views, "raycast poses")->capture_default_str();
-      command.add_option("--repeats", options->repeats, "timed runs per pose / mesh")->capture_default_str();
-      command.add_flag("--baseline,!--no-baseline", options->baseline,
-                       "also time the raycast without empty-space skipping")
-          ->capture_default_str();
-      return [options] { return runRenderBench(*options); };
-    });
+const bool registered = registerBench("render", "raycast and mesh speed on the 7-Scenes map", [](CLI::App& command) {
+  auto options = std::make_shared<RenderBenchOptions>();
+  command.add_option("--data", options->data, "7-Scenes sequence folder")->capture_default_str();
+  command.add_option("--frames", options->frames, "frames to integrate (from frame 0)")->capture_default_str();
+  command.add_option("--voxel", options->voxel, "voxel size, metres")->capture_default_str();
+  command.add_option("--trunc", options->truncation, "truncation, metres")->capture_default_str();
+  command.add_option("--views", options->views, "raycast poses")->capture_default_str();
+  command.add_option("--repeats", options->repeats, "timed runs per pose / mesh")->capture_default_str();
+  command
+      .add_flag("--baseline,!--no-baseline", options->baseline, "also time the raycast without empty-space skipping")
+      ->capture_default_str();
+  return [options] { return runRenderBench(*options); };
+});
 
 }  // namespace
 }  // namespace semfuse::bench

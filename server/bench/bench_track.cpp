@@ -77,8 +77,9 @@ Result<RunResult> trackSequence(const FrameSource& source, std::size_t frames, c
   if (!options.trace.empty()) {
     trace.reset(std::fopen(options.trace.c_str(), "w"));
     if (!trace) return makeError("cannot write trace " + options.trace);
-    std::fprintf(trace.get(), "frame,status,err_mm,rot_err_deg,ref_step_mm,step_err_mm,step_rot_err_deg,"
-                              "inlier_ratio,rms_mm,rcond,iterations,track_ms,est_pose_3x4,ref_pose_3x4\n");
+    std::fprintf(trace.get(),
+                 "frame,status,err_mm,rot_err_deg,ref_step_mm,step_err_mm,step_rot_err_deg,"
+                 "inlier_ratio,rms_mm,rcond,iterations,track_ms,est_pose_3x4,ref_pose_3x4\n");
   }
   RunResult run;
   volume::LabeledVolume map(params);
@@ -99,9 +100,9 @@ Result<RunResult> trackSequence(const FrameSource& source, std::size_t frames, c
 
     Stopwatch track_watch;
     CpuStopwatch track_cpu;
-    Result<tracking::TrackedFrame> tracked =
-        tracking::trackFrame(tracker, frame, field, state,
-                             options.oracle_guess ? tracking::GivenPosePolicy::kRefine : tracking::GivenPosePolicy::kUseAsIs);
+    Result<tracking::TrackedFrame> tracked = tracking::trackFrame(
+        tracker, frame, field, state,
+        options.oracle_guess ? tracking::GivenPosePolicy::kRefine : tracking::GivenPosePolicy::kUseAsIs);
     const double track_ms = track_watch.elapsedMs();
     const double track_cpu_ms = track_cpu.elapsedMs();
     if (!tracked) return makeError("frame " + std::to_string(i) + ": " + tracked.error());
@@ -120,13 +121,13 @@ Result<RunResult> trackSequence(const FrameSource& source, std::size_t frames, c
       ++run.lost;
     }
     if (verbose || !t.shouldIntegrate())
-      std::printf("frame %3zu %-11s %-20s inliers %.2f agree %.2f rms %.2f mm rcond %.1e iters %2d %.1f ms  err %.1f mm"
-                  "  ref step %.1f mm\n", i,
-                  tracking::toString(t.status), tracking::toString(t.lost_reason), t.quality.inlier_ratio,
-                  t.quality.observed_agreement,
-                  t.quality.rms_residual_m * 1e3, t.quality.hessian_rcond, t.quality.iterations, track_ms,
-                  (t.pose.translation() - reference.translation()).norm() * 1e3,
-                  run.reference.empty() ? 0.0 : (reference.translation() - run.reference.back().translation()).norm() * 1e3);
+      std::printf(
+          "frame %3zu %-11s %-20s inliers %.2f agree %.2f rms %.2f mm rcond %.1e iters %2d %.1f ms  err %.1f mm"
+          "  ref step %.1f mm\n",
+          i, tracking::toString(t.status), tracking::toString(t.lost_reason), t.quality.inlier_ratio,
+          t.quality.observed_agreement, t.quality.rms_residual_m * 1e3, t.quality.hessian_rcond, t.quality.iterations,
+          track_ms, (t.pose.translation() - reference.translation()).norm() * 1e3,
+          run.reference.empty() ? 0.0 : (reference.translation() - run.reference.back().translation()).norm() * 1e3);
     if (trace) {
       const Pose error = reference.inverse() * t.pose;
       Pose step_error = Pose::Identity();
@@ -214,8 +215,10 @@ int reportConsistency(const FrameSource& source, const RunResult& run, const vol
       return 1;
     }
     const Consistency& c = result.value();
-    table.add(name + ": pull RMS", formatNumber(c.translation_rms_m * 1000, 2) + " mm, " + formatNumber(c.rotation_rms_deg, 3) + " deg",
-              "residual " + formatNumber(c.residual_mean_m * 1000, 2) + " mm; " + std::to_string(c.samples) + " frames");
+    table.add(
+        name + ": pull RMS",
+        formatNumber(c.translation_rms_m * 1000, 2) + " mm, " + formatNumber(c.rotation_rms_deg, 3) + " deg",
+        "residual " + formatNumber(c.residual_mean_m * 1000, 2) + " mm; " + std::to_string(c.samples) + " frames");
   }
   table.print();
   return 0;
@@ -276,17 +279,19 @@ int runTrackBench(const TrackBenchOptions& options) {
     return 2;
   }
   const auto& p = tracker_params;
-  std::printf("voxel %.3f m, truncation %.3f m; tracker: %d levels, points %zu/%zu/%zu, iterations %d/%d/%d, %s %.2f x trunc,"
-              " depth <= %.1f m\n",
-              options.voxel, options.truncation, p.pyramid.levels, p.pyramid.max_points[0], p.pyramid.max_points[1],
-              p.pyramid.max_points[2], p.max_iterations[0], p.max_iterations[1], p.max_iterations[2],
-              options.loss.c_str(), static_cast<double>(p.robust_scale), static_cast<double>(p.pyramid.max_depth_m));
+  std::printf(
+      "voxel %.3f m, truncation %.3f m; tracker: %d levels, points %zu/%zu/%zu, iterations %d/%d/%d, %s %.2f x trunc,"
+      " depth <= %.1f m\n",
+      options.voxel, options.truncation, p.pyramid.levels, p.pyramid.max_points[0], p.pyramid.max_points[1],
+      p.pyramid.max_points[2], p.max_iterations[0], p.max_iterations[1], p.max_iterations[2], options.loss.c_str(),
+      static_cast<double>(p.robust_scale), static_cast<double>(p.pyramid.max_depth_m));
 
   int exit_code = 0;
   if (!options.skip_seven_scenes) {
     datasets::SevenScenesOptions reader_options;
     if (options.focal > 0.0) {
-      auto intrinsics = datasets::readSevenScenesIntrinsics(std::filesystem::path(options.data) / "camera-intrinsics.txt");
+      auto intrinsics =
+          datasets::readSevenScenesIntrinsics(std::filesystem::path(options.data) / "camera-intrinsics.txt");
       if (!intrinsics) {
         std::fprintf(stderr, "7-Scenes: %s\n", intrinsics.error().c_str());
         return 2;
@@ -318,8 +323,8 @@ int runTrackBench(const TrackBenchOptions& options) {
       std::fprintf(stderr, "7-Scenes: %s\n", run.error().c_str());
       return 1;
     }
-    exit_code |= report("tracking: 7-Scenes redkitchen frames 0-" + std::to_string(frames - 1) +
-                            " vs reference poses" + (options.oracle_map ? " (map at reference poses)" : ""),
+    exit_code |= report("tracking: 7-Scenes redkitchen frames 0-" + std::to_string(frames - 1) + " vs reference poses" +
+                            (options.oracle_map ? " (map at reference poses)" : ""),
                         run.value(), "target <= 3 cm", false);
     if (options.consistency) exit_code |= reportConsistency(source, run.value(), params, tracker_params);
   }
@@ -330,16 +335,16 @@ int runTrackBench(const TrackBenchOptions& options) {
     // One trace file: the 7-Scenes run's, or the synthetic run's when 7-Scenes is skipped.
     TrackBenchOptions synthetic_options = options;
     if (!options.skip_seven_scenes) synthetic_options.trace.clear();
-    auto run = trackSequence([&sequence](std::size_t i) { return sequence.frame(static_cast<int>(i)); },
-                             static_cast<std::size_t>(sequence.frameCount()), params, tracker_params,
-                             synthetic_options);
+    auto run =
+        trackSequence([&sequence](std::size_t i) { return sequence.frame(static_cast<int>(i)); },
+                      static_cast<std::size_t>(sequence.frameCount()), params, tracker_params, synthetic_options);
     if (!run) {
       std::fprintf(stderr, "synthetic: %s\n", run.error().c_str());
       return 1;
     }
-    exit_code |= report("tracking: synthetic room, exact depth, " + std::to_string(sequence.frameCount()) +
-                            " frames vs true poses",
-                        run.value(), "target <= 1 cm", true);
+    exit_code |= report(
+        "tracking: synthetic room, exact depth, " + std::to_string(sequence.frameCount()) + " frames vs true poses",
+        run.value(), "target <= 1 cm", true);
   }
   return exit_code;
 }
@@ -356,13 +361,15 @@ const bool registered = registerBench(
       command.add_flag("--skip-7scenes", options->skip_seven_scenes, "only the synthetic room");
       command.add_flag("--skip-synthetic", options->skip_synthetic, "only 7-Scenes");
       auto& tp = options->tracker;
-      command.add_option("--fine-points", tp.pyramid.max_points[0], "points at 640x480 (0 = all)")->capture_default_str();
+      command.add_option("--fine-points", tp.pyramid.max_points[0], "points at 640x480 (0 = all)")
+          ->capture_default_str();
       command.add_option("--mid-points", tp.pyramid.max_points[1], "points at 320x240")->capture_default_str();
       command.add_option("--coarse-points", tp.pyramid.max_points[2], "points at 160x120")->capture_default_str();
       command.add_option("--fine-iters", tp.max_iterations[0], "iterations at 640x480")->capture_default_str();
       command.add_option("--mid-iters", tp.max_iterations[1], "iterations at 320x240")->capture_default_str();
       command.add_option("--coarse-iters", tp.max_iterations[2], "iterations at 160x120")->capture_default_str();
-      command.add_option("--loss", options->loss, "robust loss")->check(CLI::IsMember({"huber", "cauchy"}))
+      command.add_option("--loss", options->loss, "robust loss")
+          ->check(CLI::IsMember({"huber", "cauchy"}))
           ->capture_default_str();
       command.add_option("--robust-scale", tp.robust_scale, "robust scale, x truncation")->capture_default_str();
       command.add_option("--max-depth", tp.pyramid.max_depth_m, "depth readings beyond are ignored, metres")
@@ -376,12 +383,15 @@ const bool registered = registerBench(
           ->capture_default_str();
       command.add_option("--focal", options->focal, "diagnostic: 7-Scenes focal length fx = fy, pixels")
           ->capture_default_str();
-      command.add_option("--pose-offset", options->pose_offset,
-                         "diagnostic: pair depth frame i with reference pose i + offset")->capture_default_str();
+      command
+          .add_option("--pose-offset", options->pose_offset,
+                      "diagnostic: pair depth frame i with reference pose i + offset")
+          ->capture_default_str();
       command.add_flag("--consistency", options->consistency,
                        "diagnostic: how far the depth pulls each frame of the tracked and the reference trajectory "
                        "from a map of its 40 neighbours (minutes)");
-      command.add_option("--trace", options->trace, "write one CSV line per frame (7-Scenes run, else synthetic) to this file");
+      command.add_option("--trace", options->trace,
+                         "write one CSV line per frame (7-Scenes run, else synthetic) to this file");
       command.add_flag("--verbose", options->verbose, "one line per frame (lost frames are always printed)");
       return [options] { return runTrackBench(*options); };
     });

@@ -24,8 +24,8 @@ struct VolumeBenchOptions {
   double voxel = 0.01;
   double truncation = 0.04;
   std::size_t baseline_frames = 100;
-  std::string kernel;            // "scalar" or "avx2"; empty: the default (widest available)
-  bool compare_kernels = false;  // only the interleaved scalar-vs-avx2 comparison
+  std::string kernel;                   // "scalar" or "avx2"; empty: the default (widest available)
+  bool compare_kernels = false;         // only the interleaved scalar-vs-avx2 comparison
   std::string label_rule = "evidence";  // the paper's rule; the server's default is bayes
 };
 
@@ -86,8 +86,8 @@ Result<PassResult> runPass(const datasets::SevenScenesReader& reader, const volu
     if (pass == Pass::kDepthColor) {
       Stopwatch late;
       CpuStopwatch late_cpu;
-      auto label_stats = volume::integrateLabels(map, f.depth, seg.labels, seg.confidence, f.intrinsics,
-                                                 *f.camera_to_world);
+      auto label_stats =
+          volume::integrateLabels(map, f.depth, seg.labels, seg.confidence, f.intrinsics, *f.camera_to_world);
       result.labels_only.add(late.elapsedMs());
       result.labels_only_cpu.add(late_cpu.elapsedMs());
       if (!label_stats) return makeError("integrateLabels frame " + std::to_string(i) + ": " + label_stats.error());
@@ -144,15 +144,15 @@ int compareKernels(const datasets::SevenScenesReader& reader, const volume::Volu
       PerKernel& r = runs[k];
       Stopwatch watch;
       CpuStopwatch cpu;
-      auto stats = volume::integrate(*r.labeled, f.depth, f.color, seg.labels, seg.confidence, f.intrinsics,
-                                     *f.camera_to_world);
+      auto stats =
+          volume::integrate(*r.labeled, f.depth, f.color, seg.labels, seg.confidence, f.intrinsics, *f.camera_to_world);
       r.integrate.add(watch.elapsedMs());
       r.integrate_cpu.add(cpu.elapsedMs());
       auto geometry = volume::integrate(*r.late, f.depth, f.color, f.intrinsics, *f.camera_to_world);
       Stopwatch late;
       CpuStopwatch late_cpu;
-      auto labels = volume::integrateLabels(*r.late, f.depth, seg.labels, seg.confidence, f.intrinsics,
-                                            *f.camera_to_world);
+      auto labels =
+          volume::integrateLabels(*r.late, f.depth, seg.labels, seg.confidence, f.intrinsics, *f.camera_to_world);
       r.labels_only.add(late.elapsedMs());
       r.labels_only_cpu.add(late_cpu.elapsedMs());
       if (!stats || !geometry || !labels) {
@@ -169,7 +169,9 @@ int compareKernels(const datasets::SevenScenesReader& reader, const volume::Volu
                  differingVoxels(a.labelSidecarGrid(), b.labelSidecarGrid());
   }
   Table table("integration kernels, interleaved frame by frame (median / p95 per frame)");
-  auto ratio = [](const Timings& scalar, const Timings& wide) { return formatNumber(wide.median() / scalar.median(), 2); };
+  auto ratio = [](const Timings& scalar, const Timings& wide) {
+    return formatNumber(wide.median() / scalar.median(), 2);
+  };
   for (int k = 0; k < 2; ++k) {
     const std::string name = volume::integrationKernelName(kernels[k]);
     table.addMs("integrate depth+colour+labels, " + name, runs[k].integrate,
@@ -214,17 +216,19 @@ int runVolumeBench(const VolumeBenchOptions& options) {
     const bool scalar = options.kernel == "scalar";
     if ((!scalar && options.kernel != "avx2") ||
         !volume::setIntegrationKernel(scalar ? volume::IntegrationKernel::kScalar : volume::IntegrationKernel::kAvx2)) {
-      std::fprintf(stderr, "semfuse-bench volume: kernel '%s' is not available (scalar, avx2)\n", options.kernel.c_str());
+      std::fprintf(stderr, "semfuse-bench volume: kernel '%s' is not available (scalar, avx2)\n",
+                   options.kernel.c_str());
       return 2;
     }
   }
   const PinholeIntrinsics& k = reader.value().intrinsics();
-  std::printf("semfuse-bench volume: %zu frames of %s (%dx%d), voxel %.3f m, truncation %.3f m, %d threads, "
-              "%s kernel, %s label rule, load average %.2f at start\n",
-              frames, options.data.c_str(), k.width, k.height, params.voxel_size, params.truncation,
-              static_cast<int>(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism)),
-              options.compare_kernels ? "scalar vs avx2" : volume::integrationKernelName(volume::integrationKernel()),
-              volume::labelRuleName(params.label_rule), loadAverage());
+  std::printf(
+      "semfuse-bench volume: %zu frames of %s (%dx%d), voxel %.3f m, truncation %.3f m, %d threads, "
+      "%s kernel, %s label rule, load average %.2f at start\n",
+      frames, options.data.c_str(), k.width, k.height, params.voxel_size, params.truncation,
+      static_cast<int>(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism)),
+      options.compare_kernels ? "scalar vs avx2" : volume::integrationKernelName(volume::integrationKernel()),
+      volume::labelRuleName(params.label_rule), loadAverage());
   if (options.compare_kernels) return compareKernels(reader.value(), params, frames);
 
   // The labeled pass first, alone, so that peak RSS is one map (plus one frame in flight).
@@ -290,10 +294,11 @@ const bool registered = registerBench(
       command.add_option("--frames", options->frames, "frames to integrate (from frame 0)")->capture_default_str();
       command.add_option("--voxel", options->voxel, "voxel size, metres")->capture_default_str();
       command.add_option("--trunc", options->truncation, "truncation, metres")->capture_default_str();
-      command.add_option("--baseline-frames", options->baseline_frames,
-                         "frames for the single-thread baseline")->capture_default_str();
+      command.add_option("--baseline-frames", options->baseline_frames, "frames for the single-thread baseline")
+          ->capture_default_str();
       command.add_option("--kernel", options->kernel, "integration kernel: scalar or avx2 (default: widest available)");
-      command.add_option("--label-rule", options->label_rule, "label fusion: evidence (the paper's), majority or bayes")
+      command
+          .add_option("--label-rule", options->label_rule, "label fusion: evidence (the paper's), majority or bayes")
           ->capture_default_str();
       command.add_flag("--compare-kernels", options->compare_kernels,
                        "only time the scalar and avx2 kernels interleaved and check that their maps are identical");

@@ -81,8 +81,8 @@ TEST_F(CameraPublisherTest, RawEncodingsArriveFieldForField) {
   EXPECT_FLOAT_EQ(msg->depth_scale, 0.001F);
   ASSERT_EQ(msg->depth._length, 64u * 48u * 2u);
   const auto* mm = reinterpret_cast<const uint16_t*>(msg->depth._buffer);
-  EXPECT_EQ(mm[0], 500);                  // 0.5 m
-  EXPECT_EQ(mm[5 * 64 + 7], 0);           // the hole stays invalid
+  EXPECT_EQ(mm[0], 500);         // 0.5 m
+  EXPECT_EQ(mm[5 * 64 + 7], 0);  // the hole stays invalid
   EXPECT_EQ(mm[47 * 64 + 63], std::lround((0.5F + 0.47F + 0.0023F * 63) * 1000.0F));
   EXPECT_STREQ(msg->color_encoding, "rgb8");
   ASSERT_EQ(msg->color._length, 64u * 48u * 3u);
@@ -110,7 +110,7 @@ TEST_F(CameraPublisherTest, CompressedEncodingsAndNoPoseDecodeToTheSameFrame) {
   auto decoded = wire::decodeFrame(*msg);
   ASSERT_TRUE(decoded.ok()) << decoded.error();
   EXPECT_FALSE(decoded.value().camera_to_world.has_value());
-  EXPECT_LE(cv::norm(decoded.value().depth, frame.depth, cv::NORM_INF), 0.0005 + 1e-6);  // PNG is lossless in mm
+  EXPECT_LE(cv::norm(decoded.value().depth, frame.depth, cv::NORM_INF), 0.0005 + 1e-6);         // PNG is lossless in mm
   EXPECT_LT(cv::norm(decoded.value().color, frame.color, cv::NORM_L1) / (64.0 * 48 * 3), 3.0);  // JPEG is close
 }
 

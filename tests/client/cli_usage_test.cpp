@@ -53,7 +53,7 @@ void expectHelp(const std::string& binary, const std::string& mentions) {
 
 TEST(CliUsage, CameraHelpAndBadUsage) {
   expectHelp(SEMFUSE_CAMERA_BIN, "--depth-encoding");
-  expectUsageError(SEMFUSE_CAMERA_BIN, "", "--source");                           // required option missing
+  expectUsageError(SEMFUSE_CAMERA_BIN, "", "--source");                            // required option missing
   expectUsageError(SEMFUSE_CAMERA_BIN, "--source synthetic --bogus", "--source");  // unknown option
   expectUsageError(SEMFUSE_CAMERA_BIN, "--source synthetic --depth-encoding jpeg", "--depth-encoding");
   expectUsageError(SEMFUSE_CAMERA_BIN, "--source synthetic --rate -3", "--rate");
@@ -73,9 +73,9 @@ TEST(CliUsage, SegmenterHelpAndBadUsage) {
 
 TEST(CliUsage, QueryHelpAndBadUsage) {
   expectHelp(SEMFUSE_QUERY_BIN, "raycast");
-  expectUsageError(SEMFUSE_QUERY_BIN, "", "Subcommands:");              // a subcommand is required
-  expectUsageError(SEMFUSE_QUERY_BIN, "teleport", "Subcommands:");      // unknown subcommand
-  expectUsageError(SEMFUSE_QUERY_BIN, "raycast --out x", "--pose");     // the subcommand's help
+  expectUsageError(SEMFUSE_QUERY_BIN, "", "Subcommands:");           // a subcommand is required
+  expectUsageError(SEMFUSE_QUERY_BIN, "teleport", "Subcommands:");   // unknown subcommand
+  expectUsageError(SEMFUSE_QUERY_BIN, "raycast --out x", "--pose");  // the subcommand's help
   expectUsageError(SEMFUSE_QUERY_BIN, "region --min 0 0 0", "--max");
   expectUsageError(SEMFUSE_QUERY_BIN, "mesh", "--out");
   expectUsageError(SEMFUSE_QUERY_BIN, "--timeout 0 status", "--timeout");

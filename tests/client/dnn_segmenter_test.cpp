@@ -84,7 +84,8 @@ TEST(DnnSegmenter, Ade20kTensorflowModelOnAKitchenFrame) {
   auto result = created.value()->segment(frame.value());
   ASSERT_TRUE(result.ok()) << result.error();
   std::map<int, long> histogram;
-  for (auto it = result.value().labels.begin<uint16_t>(); it != result.value().labels.end<uint16_t>(); ++it) ++histogram[*it];
+  for (auto it = result.value().labels.begin<uint16_t>(); it != result.value().labels.end<uint16_t>(); ++it)
+    ++histogram[*it];
   std::vector<std::pair<long, int>> ranked;
   for (const auto& [label, count] : histogram) ranked.emplace_back(count, label);
   std::sort(ranked.rbegin(), ranked.rend());

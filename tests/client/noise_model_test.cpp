@@ -18,14 +18,13 @@ Segmentation quadrants() {
   Segmentation s;
   s.labels.create(200, 200, CV_16UC1);
   for (int r = 0; r < 200; ++r)
-    for (int c = 0; c < 200; ++c) s.labels.at<uint16_t>(r, c) = r < 20 ? 0 : static_cast<uint16_t>(1 + (r >= 110) * 2 + (c >= 100));
+    for (int c = 0; c < 200; ++c)
+      s.labels.at<uint16_t>(r, c) = r < 20 ? 0 : static_cast<uint16_t>(1 + (r >= 110) * 2 + (c >= 100));
   s.confidence = cv::Mat(s.labels.size(), CV_32FC1, cv::Scalar(0.6F));
   return s;
 }
 
-NoiseParams pixelParams(double p, uint64_t seed) {
-  return {NoiseModel::kPixel, p, seed, {1, 2, 3, 4, 5, 6, 7, 8}};
-}
+NoiseParams pixelParams(double p, uint64_t seed) { return {NoiseModel::kPixel, p, seed, {1, 2, 3, 4, 5, 6, 7, 8}}; }
 
 TEST(PixelNoise, SwitchesAboutPOfTheLabeledPixelsToAnotherCandidate) {
   const Segmentation clean = quadrants();

@@ -117,8 +117,8 @@ TEST(ReplyDecoding, TakenImageIsCheckedLikeADecodedOne) {
   EXPECT_NE(image->data._buffer, nullptr);
 }
 
-void fillChunk(semfuse_srv_dds__Mesh_Response_& reply, uint64_t mesh_id, uint32_t index, uint32_t count,
-               uint64_t total, const std::string& bytes) {
+void fillChunk(semfuse_srv_dds__Mesh_Response_& reply, uint64_t mesh_id, uint32_t index, uint32_t count, uint64_t total,
+               const std::string& bytes) {
   reply.mesh_id = mesh_id;
   reply.chunk_index = index;
   reply.chunk_count = count;

@@ -52,12 +52,15 @@ TEST_F(SegmenterTest, PublishesTheFunctionsLabelsForEachFrame) {
   dds::Topic<SegmentationMsg> topic(participant_, dds::topics::kSegmentations);
   dds::Reader<SegmentationMsg> results(topic, dds::qos::segmentations());
   // Label 2 for the far frame, 1 for the near one: the output must depend on the input.
-  Segmenter segmenter(participant_, [](const Frame& f) -> Result<Segmentation> {
-    Segmentation s;
-    s.labels = cv::Mat(f.depth.size(), CV_16UC1, cv::Scalar(f.depth.at<float>(0, 0) > 1.0F ? 2 : 1));
-    s.confidence = cv::Mat(f.depth.size(), CV_32FC1, cv::Scalar(0.5F));
-    return s;
-  }, {"unit-test-segmenter", "", 1, std::chrono::milliseconds(0)});
+  Segmenter segmenter(participant_,
+                      [](const Frame& f) -> Result<Segmentation> {
+                        Segmentation s;
+                        s.labels =
+                            cv::Mat(f.depth.size(), CV_16UC1, cv::Scalar(f.depth.at<float>(0, 0) > 1.0F ? 2 : 1));
+                        s.confidence = cv::Mat(f.depth.size(), CV_32FC1, cv::Scalar(0.5F));
+                        return s;
+                      },
+                      {"unit-test-segmenter", "", 1, std::chrono::milliseconds(0)});
   segmenter.start();
   CameraPublisher camera(participant_, {DepthEncoding::kRaw16, ColorEncoding::kNone, 90});
   ASSERT_TRUE(camera.waitForReader(std::chrono::seconds(15)));
@@ -97,16 +100,18 @@ TEST_F(SegmenterTest, ASlowFunctionSkipsToTheNewestFrame) {
   bool release = false;
   std::vector<uint64_t> segmented;
   // The first call blocks until the test has delivered four more frames.
-  Segmenter segmenter(participant_, [&](const Frame& f) -> Result<Segmentation> {
-    std::unique_lock lock(mutex);
-    segmented.push_back(f.seq);
-    inside = true;
-    changed.notify_all();
-    changed.wait(lock, [&] { return release; });
-    Segmentation s;
-    s.labels = cv::Mat(f.depth.size(), CV_16UC1, cv::Scalar(3));
-    return s;
-  }, {"slow", "", 1, std::chrono::milliseconds(0)});
+  Segmenter segmenter(participant_,
+                      [&](const Frame& f) -> Result<Segmentation> {
+                        std::unique_lock lock(mutex);
+                        segmented.push_back(f.seq);
+                        inside = true;
+                        changed.notify_all();
+                        changed.wait(lock, [&] { return release; });
+                        Segmentation s;
+                        s.labels = cv::Mat(f.depth.size(), CV_16UC1, cv::Scalar(3));
+                        return s;
+                      },
+                      {"slow", "", 1, std::chrono::milliseconds(0)});
   segmenter.start();
   CameraPublisher camera(participant_, {DepthEncoding::kRaw16, ColorEncoding::kNone, 90});
   ASSERT_TRUE(camera.waitForReader(std::chrono::seconds(15)));
@@ -142,11 +147,13 @@ TEST_F(SegmenterTest, ADelayedResultDoesNotHoldTheWorker) {
   constexpr auto kDelay = std::chrono::milliseconds(1500);
   dds::Topic<SegmentationMsg> topic(participant_, dds::topics::kSegmentations);
   dds::Reader<SegmentationMsg> results(topic, dds::qos::segmentations());
-  Segmenter segmenter(participant_, [](const Frame& f) -> Result<Segmentation> {
-    Segmentation s;
-    s.labels = cv::Mat(f.depth.size(), CV_16UC1, cv::Scalar(4));
-    return s;
-  }, {"late", "", 1, kDelay});
+  Segmenter segmenter(participant_,
+                      [](const Frame& f) -> Result<Segmentation> {
+                        Segmentation s;
+                        s.labels = cv::Mat(f.depth.size(), CV_16UC1, cv::Scalar(4));
+                        return s;
+                      },
+                      {"late", "", 1, kDelay});
   segmenter.start();
   CameraPublisher camera(participant_, {DepthEncoding::kRaw16, ColorEncoding::kNone, 90});
   ASSERT_TRUE(camera.waitForReader(std::chrono::seconds(15)));
@@ -183,13 +190,15 @@ TEST_F(SegmenterTest, ADelayedResultDoesNotHoldTheWorker) {
 TEST_F(SegmenterTest, EveryNthFrameIsSelected) {
   std::mutex mutex;
   std::vector<uint64_t> segmented;
-  Segmenter segmenter(participant_, [&](const Frame& f) -> Result<Segmentation> {
-    std::lock_guard lock(mutex);
-    segmented.push_back(f.seq);
-    Segmentation s;
-    s.labels = cv::Mat(f.depth.size(), CV_16UC1, cv::Scalar(1));
-    return s;
-  }, {"every-third", "", 3, std::chrono::milliseconds(0)});
+  Segmenter segmenter(participant_,
+                      [&](const Frame& f) -> Result<Segmentation> {
+                        std::lock_guard lock(mutex);
+                        segmented.push_back(f.seq);
+                        Segmentation s;
+                        s.labels = cv::Mat(f.depth.size(), CV_16UC1, cv::Scalar(1));
+                        return s;
+                      },
+                      {"every-third", "", 3, std::chrono::milliseconds(0)});
   segmenter.start();
   CameraPublisher camera(participant_, {DepthEncoding::kRaw16, ColorEncoding::kNone, 90});
   ASSERT_TRUE(camera.waitForReader(std::chrono::seconds(15)));

@@ -59,7 +59,8 @@ TEST(BuiltinLegends, SyntheticIdsAreTheContractWithTheSyntheticScene) {
   const std::vector<std::string> expected = {"unlabeled", "floor", "wall",   "ceiling", "table",
                                              "chair",     "box",   "sphere", "cabinet"};
   ASSERT_EQ(legend.labels.size(), expected.size());
-  for (std::size_t id = 0; id < expected.size(); ++id) EXPECT_EQ(nameOf(legend, static_cast<LabelId>(id)), expected[id]);
+  for (std::size_t id = 0; id < expected.size(); ++id)
+    EXPECT_EQ(nameOf(legend, static_cast<LabelId>(id)), expected[id]);
 }
 
 TEST(BuiltinLegends, AllValidWithDistinctColours) {

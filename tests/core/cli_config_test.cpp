@@ -1,8 +1,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include <CLI/CLI.hpp>
 #include <gtest/gtest.h>
+#include <CLI/CLI.hpp>
 
 #include "semfuse/core/cli_config.hpp"
 
@@ -76,7 +76,9 @@ TEST_F(YamlConfigTest, CommandLineOverridesTheFile) {
 TEST_F(YamlConfigTest, UnknownKeyIsNamedWithLineAndKnownKeys) {
   const std::string error = parseError("voxel-size: 0.02\nvolume:\n  truncaton: 0.08\n");
   EXPECT_NE(error.find("unknown key 'volume.truncaton' (line 3)"), std::string::npos) << error;
-  EXPECT_NE(error.find("known keys: voxel-size, volume.truncation, camera-id, ids, verbose, query: {...}"), std::string::npos) << error;
+  EXPECT_NE(error.find("known keys: voxel-size, volume.truncation, camera-id, ids, verbose, query: {...}"),
+            std::string::npos)
+      << error;
 }
 
 TEST_F(YamlConfigTest, UnknownKeyInASubcommandSection) {

@@ -55,7 +55,8 @@ TEST(LegendYaml, EachMistakeHasItsOwnMessage) {
   expectError(parseLegendYaml("name: x\nlabels: [{id: 1, name: a}, {id: 2, name: a}]"), "name 'a' used by two labels");
   expectError(parseLegendYaml("name: x\nlabels: [{id: 1, name: a, color: [1, 2]}]"), "must be [r, g, b]");
   expectError(parseLegendYaml("name: x\nlabels: [{id: 1, name: a, color: [1, 2, 300]}]"), "colour channel 300");
-  expectError(parseLegendYaml("name: x\nlabels: [{id: 1, name: a}]\nbackground: [3]"), "background id 3 is not a label");
+  expectError(parseLegendYaml("name: x\nlabels: [{id: 1, name: a}]\nbackground: [3]"),
+              "background id 3 is not a label");
   expectError(parseLegendYaml("name: x\nlabels: [{id: 1, nme: a}]"), "unknown label key 'nme'");
   expectError(parseLegendYaml("name: x\nlabel: [{id: 1, name: a}]"), "unknown key 'label'");
   // Found by fuzz/targets/legend_yaml.cpp: these used to throw or to be accepted.

@@ -47,8 +47,7 @@ class TumFolder : public ::testing::Test {
               "# depth maps\n# file: 'unit'\n# timestamp filename\n"
               "100.000 depth/0.png\n100.033 depth/1.png\n100.066 depth/2.png\n");
     // rgb 2 is 30 ms from depth 2: outside the 20 ms window, so depth 2 is skipped.
-    writeText("rgb.txt",
-              "# color images\n100.010 rgb/0.png\n100.030 rgb/1.png\n100.096 rgb/2.png\n");
+    writeText("rgb.txt", "# color images\n100.010 rgb/0.png\n100.030 rgb/1.png\n100.096 rgb/2.png\n");
   }
   fs::path dir_;
 };
@@ -126,8 +125,7 @@ TEST_F(TumFolder, MalformedListsAndMissingFilesAreRejectedPrecisely) {
   writeText("groundtruth.txt", "100.0 0 0 0 0 0 0\n");
   auto short_line = TumRgbdReader::open(dir_);
   ASSERT_FALSE(short_line.ok());
-  EXPECT_NE(short_line.error().find("groundtruth.txt:1: expected 'timestamp tx ty tz qx qy qz qw'"),
-            std::string::npos)
+  EXPECT_NE(short_line.error().find("groundtruth.txt:1: expected 'timestamp tx ty tz qx qy qz qw'"), std::string::npos)
       << short_line.error();
 
   writeText("groundtruth.txt", "100.0 0 0 0 0 0 0 2\n");

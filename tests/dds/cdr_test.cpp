@@ -15,8 +15,8 @@ using Bytes = std::vector<uint8_t>;
 
 TEST(Cdr, TimeHasHeaderThenLittleEndianFields) {
   Sample<builtin_interfaces_msg_dds__Time_> t;
-  t->sec = -2;                 // fe ff ff ff
-  t->nanosec = 0x01020304u;    // 04 03 02 01
+  t->sec = -2;               // fe ff ff ff
+  t->nanosec = 0x01020304u;  // 04 03 02 01
   EXPECT_EQ(serialize(*t), (Bytes{0x00, 0x01, 0x00, 0x00, 0xfe, 0xff, 0xff, 0xff, 0x04, 0x03, 0x02, 0x01}));
 }
 
@@ -94,8 +94,8 @@ TEST(Cdr, TruncatedBodyIsRejected) {
 
 TEST(Cdr, SequenceCountBeyondTheBufferIsRejected) {
   // Header_ with empty frame_id, then a CompressedImage format "" and a data count of 1e6.
-  const Bytes bytes{0x00, 0x01, 0, 0, 1, 0, 0, 0, 2, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0,
-                    1,    0,    0, 0, 0, 0, 0, 0, 0x40, 0x42, 0x0f, 0x00, 9, 9, 9, 9};
+  const Bytes bytes{0x00, 0x01, 0, 0, 1, 0, 0, 0, 2, 0, 0,    0,    1,    0,    0, 0, 0, 0,
+                    0,    0,    1, 0, 0, 0, 0, 0, 0, 0, 0x40, 0x42, 0x0f, 0x00, 9, 9, 9, 9};
   auto r = deserialize<sensor_msgs_msg_dds__CompressedImage_>(bytes);
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().find("malformed CDR"), std::string::npos) << r.error();

@@ -32,8 +32,7 @@ inline dds_domainid_t testDomain() { return static_cast<dds_domainid_t>(10 + ::g
 inline std::string uniqueName(const std::string& base) {
   static int counter = 0;
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  return base + "_" + std::to_string(::getpid()) + "_" + (info ? info->name() : "x") + "_" +
-         std::to_string(counter++);
+  return base + "_" + std::to_string(::getpid()) + "_" + (info ? info->name() : "x") + "_" + std::to_string(counter++);
 }
 
 inline constexpr dds_duration_t kDiscoveryTimeout = DDS_SECS(15);

@@ -40,19 +40,18 @@ TEST(Ros2Wire, ImageBytesMatchTheRos2Layout) {
   const uint8_t pixels[8] = {10, 20, 30, 40, 50, 60, 70, 80};
   setSequence(image->data, pixels, 8);
 
-  const Bytes expected{
-      0x00, 0x01, 0x00, 0x00,                          // encapsulation: CDR_LE, no padding
-      0xd2, 0x04, 0x00, 0x00,                          //  0 header.stamp.sec = 1234
-      0x2e, 0x16, 0x00, 0x00,                          //  4 header.stamp.nanosec = 5678
-      0x04, 0x00, 0x00, 0x00, 'c', 'a', 'm', 0x00,     //  8 header.frame_id = "cam"
-      0x02, 0x00, 0x00, 0x00,                          // 16 height = 2
-      0x04, 0x00, 0x00, 0x00,                          // 20 width = 4
-      0x06, 0x00, 0x00, 0x00, 'm', 'o', 'n', 'o', '8', 0x00,  // 24 encoding = "mono8"
-      0x00,                                            // 34 is_bigendian = 0
-      0x00,                                            // 35 padding: step is 4-aligned
-      0x04, 0x00, 0x00, 0x00,                          // 36 step = 4
-      0x08, 0x00, 0x00, 0x00,                          // 40 data: 8 elements
-      10, 20, 30, 40, 50, 60, 70, 80};                 // 44 data, body ends at 52
+  const Bytes expected{0x00, 0x01, 0x00, 0x00,                                  // encapsulation: CDR_LE, no padding
+                       0xd2, 0x04, 0x00, 0x00,                                  //  0 header.stamp.sec = 1234
+                       0x2e, 0x16, 0x00, 0x00,                                  //  4 header.stamp.nanosec = 5678
+                       0x04, 0x00, 0x00, 0x00, 'c', 'a', 'm', 0x00,             //  8 header.frame_id = "cam"
+                       0x02, 0x00, 0x00, 0x00,                                  // 16 height = 2
+                       0x04, 0x00, 0x00, 0x00,                                  // 20 width = 4
+                       0x06, 0x00, 0x00, 0x00, 'm', 'o', 'n', 'o',  '8', 0x00,  // 24 encoding = "mono8"
+                       0x00,                                                    // 34 is_bigendian = 0
+                       0x00,                                                    // 35 padding: step is 4-aligned
+                       0x04, 0x00, 0x00, 0x00,                                  // 36 step = 4
+                       0x08, 0x00, 0x00, 0x00,                                  // 40 data: 8 elements
+                       10,   20,   30,   40,   50,  60,  70,  80};              // 44 data, body ends at 52
   EXPECT_EQ(serialize(*image), expected);
 
   auto decoded = deserialize<sensor_msgs_msg_dds__Image_>(expected);
@@ -67,28 +66,28 @@ TEST(Ros2Wire, ImageBytesMatchTheRos2Layout) {
 // wire. Older ROS 2 stacks leave the options 0; such bytes must decode as well.
 Bytes expectedCameraInfo(uint8_t options) {
   Bytes b{0x00, 0x01, 0x00, options};
-  u32(b, 100);                         //   0 header.stamp.sec
-  u32(b, 200);                         //   4 header.stamp.nanosec
-  u32(b, 8);                           //   8 header.frame_id length incl. NUL
-  chars(b, "optical");                 //  12 "optical\0", ends at 20
-  u32(b, 480);                         //  20 height
-  u32(b, 640);                         //  24 width
-  u32(b, 10);                          //  28 distortion_model length
-  chars(b, "plumb_bob");               //  32 "plumb_bob\0", ends at 42
-  zeros(b, 2);                         //  42 padding to 4
-  u32(b, 5);                           //  44 d: 5 elements
+  u32(b, 100);                                        //   0 header.stamp.sec
+  u32(b, 200);                                        //   4 header.stamp.nanosec
+  u32(b, 8);                                          //   8 header.frame_id length incl. NUL
+  chars(b, "optical");                                //  12 "optical\0", ends at 20
+  u32(b, 480);                                        //  20 height
+  u32(b, 640);                                        //  24 width
+  u32(b, 10);                                         //  28 distortion_model length
+  chars(b, "plumb_bob");                              //  32 "plumb_bob\0", ends at 42
+  zeros(b, 2);                                        //  42 padding to 4
+  u32(b, 5);                                          //  44 d: 5 elements
   for (int i = 0; i < 5; ++i) f64(b, 0.1 * (i + 1));  // 48 (8-aligned already) .. 88
   for (int i = 0; i < 9; ++i) f64(b, 1.0 + i);        //  88 k[9] .. 160
   for (int i = 0; i < 9; ++i) f64(b, 20.0 + i);       // 160 r[9] .. 232
   for (int i = 0; i < 12; ++i) f64(b, 40.0 + i);      // 232 p[12] .. 328
-  u32(b, 1);                           // 328 binning_x
-  u32(b, 2);                           // 332 binning_y
-  u32(b, 11);                          // 336 roi.x_offset
-  u32(b, 12);                          // 340 roi.y_offset
-  u32(b, 13);                          // 344 roi.height
-  u32(b, 14);                          // 348 roi.width
-  b.push_back(1);                      // 352 roi.do_rectify = true, body ends at 353
-  zeros(b, 3);                         // padding to a multiple of 4
+  u32(b, 1);                                          // 328 binning_x
+  u32(b, 2);                                          // 332 binning_y
+  u32(b, 11);                                         // 336 roi.x_offset
+  u32(b, 12);                                         // 340 roi.y_offset
+  u32(b, 13);                                         // 344 roi.height
+  u32(b, 14);                                         // 348 roi.width
+  b.push_back(1);                                     // 352 roi.do_rectify = true, body ends at 353
+  zeros(b, 3);                                        // padding to a multiple of 4
   return b;
 }
 

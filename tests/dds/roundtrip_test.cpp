@@ -113,7 +113,8 @@ class Frame640 {
     for (int v = 0; v < depth_.rows; ++v) {
       for (int u = 0; u < depth_.cols; ++u) {
         depth_.at<uint16_t>(v, u) = static_cast<uint16_t>(500 + 3 * u + 7 * v);
-        color_.at<cv::Vec3b>(v, u) = cv::Vec3b(static_cast<uint8_t>(u), static_cast<uint8_t>(v), static_cast<uint8_t>(u ^ v));
+        color_.at<cv::Vec3b>(v, u) =
+            cv::Vec3b(static_cast<uint8_t>(u), static_cast<uint8_t>(v), static_cast<uint8_t>(u ^ v));
       }
     }
   }

@@ -79,10 +79,9 @@ TEST_F(Rpc, MissingServerIsAClearError) {
 
 TEST_F(Rpc, ThrowingHandlerStillReplies) {
   const auto admin = topics::service(testing::uniqueName("admin"), "semfuse_test");
-  RpcServer<AdminRequest, AdminReply> server(
-      server_side, admin, [](const AdminRequest& request, AdminReply&) {
-        throw std::runtime_error(std::string("cannot open ") + request.path);
-      });
+  RpcServer<AdminRequest, AdminReply> server(server_side, admin, [](const AdminRequest& request, AdminReply&) {
+    throw std::runtime_error(std::string("cannot open ") + request.path);
+  });
   RpcClient<AdminRequest, AdminReply> client(client_side, admin);
   Sample<AdminRequest> request;
   request->command = semfuse_srv_dds__Admin_Request_Constants_LOAD;

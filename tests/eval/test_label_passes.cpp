@@ -3,8 +3,8 @@
 // and the diagnosis (experiment 6) agrees with the metric and its exact-count oracle is sound.
 #include <gtest/gtest.h>
 
-#include <filesystem>
 #include <unistd.h>
+#include <filesystem>
 
 #include <opencv2/core.hpp>
 
@@ -107,7 +107,6 @@ TEST_F(SmallSyntheticScenario, NoiseSourcesCorruptTheTruthAsDocumented) {
   EXPECT_FALSE(labelsFor(*sequence_, 999, LabelSource{}).ok());
   EXPECT_FALSE(labelsFor(*sequence_, 0, LabelSource{LabelSourceKind::kSegmenter}).ok());  // synthetic has none
 }
-
 
 TEST_F(SmallSyntheticScenario, DiagnosisSeesTheMetricsVoxelsAndErrors) {
   const LabelSource noisy{LabelSourceKind::kPixel, 0.6, 3};

@@ -34,12 +34,13 @@ const fs::path kPeerBuild = fs::path(SEMFUSE_BINARY_DIR) / "tests/interop/fastdd
 // Builds the Fast DDS peer once per run (configure + build, output in a log).
 std::string buildPeer() {
   const std::string cmake = SEMFUSE_CMAKE_COMMAND;
-  const std::string configure = cmake + " -S " + std::string(SEMFUSE_SOURCE_DIR) + "/tests/interop/fastdds -B " +
-                                kPeerBuild.string() + " -DCMAKE_BUILD_TYPE=Release -DSEMFUSE_IDL_DIR=" +
-                                std::string(SEMFUSE_SOURCE_DIR) + "/idl";
+  const std::string configure =
+      cmake + " -S " + std::string(SEMFUSE_SOURCE_DIR) + "/tests/interop/fastdds -B " + kPeerBuild.string() +
+      " -DCMAKE_BUILD_TYPE=Release -DSEMFUSE_IDL_DIR=" + std::string(SEMFUSE_SOURCE_DIR) + "/idl";
   fs::create_directories(kPeerBuild);
   const fs::path log = kPeerBuild / "build.log", err = kPeerBuild / "build.err";
-  if (runCommand(configure, log, err) != 0) return "configuring the peer failed:\n" + tail(readFile(log) + readFile(err));
+  if (runCommand(configure, log, err) != 0)
+    return "configuring the peer failed:\n" + tail(readFile(log) + readFile(err));
   if (runCommand(cmake + " --build " + kPeerBuild.string() + " -j2", log, err) != 0)
     return "building the peer failed:\n" + tail(readFile(log) + readFile(err));
   return "";
@@ -74,17 +75,34 @@ TEST(FastDdsInterop, RosCameraOnFastDdsIsFusedAndHearsTfAndStatus) {
 
   const int domain = interopDomain();
   ServerHarness h(domain);
-  h.startServer({"--legend", "synthetic", "--voxel-size", std::to_string(kVoxel), "--truncation",
-                 std::to_string(4 * kVoxel), "--max-depth", "8", "--queue-per-camera", "64", "--ros-ingest",
-                 "--ros.camera-id", "fastdds", "--ros.world-frame", "map", "--ros.publish-tf", "all", "--ros.wait",
-                 "1.0", "--ros.pending-depth", "64"});
+  h.startServer({"--legend",
+                 "synthetic",
+                 "--voxel-size",
+                 std::to_string(kVoxel),
+                 "--truncation",
+                 std::to_string(4 * kVoxel),
+                 "--max-depth",
+                 "8",
+                 "--queue-per-camera",
+                 "64",
+                 "--ros-ingest",
+                 "--ros.camera-id",
+                 "fastdds",
+                 "--ros.world-frame",
+                 "map",
+                 "--ros.publish-tf",
+                 "all",
+                 "--ros.wait",
+                 "1.0",
+                 "--ros.pending-depth",
+                 "64"});
 
   std::ostringstream command;
   command << peer << " --domain " << domain << " --frames " << (dir / "frames") << " --rate " << kRateHz
           << " --world-frame map --camera-frame camera_optical --expect-tf " << kFrames << " --expect-integrated "
           << kFrames << " --timeout 90";
-  auto peer_run = std::async(std::launch::async,
-                             [&] { return runCommand(command.str(), dir / "peer.out", dir / "peer.err"); });
+  auto peer_run =
+      std::async(std::launch::async, [&] { return runCommand(command.str(), dir / "peer.out", dir / "peer.err"); });
 
   // Each integrated frame's pose says which frame (by stamp) got which server seq: label those
   // with the ground truth through the native path, as a segmenter would.
@@ -164,7 +182,8 @@ TEST(FastDdsInterop, RosCameraOnFastDdsIsFusedAndHearsTfAndStatus) {
   semfuse_srv_dds__Raycast_Request_ request{};
   wire::poseToRowMajor(view, request.camera_to_world);
   request.intrinsics = {static_cast<uint32_t>(k.width), static_cast<uint32_t>(k.height), k.fx, k.fy, k.cx, k.cy};
-  request.layers = semfuse_srv_dds__Raycast_Request_Constants_LAYER_DEPTH | semfuse_srv_dds__Raycast_Request_Constants_LAYER_LABELS;
+  request.layers =
+      semfuse_srv_dds__Raycast_Request_Constants_LAYER_DEPTH | semfuse_srv_dds__Raycast_Request_Constants_LAYER_LABELS;
   auto reply = h.raycast().call(request, 30s);
   ASSERT_TRUE(reply.ok()) << reply.error();
   ASSERT_EQ(reply.value()->status, 0) << dds::replyMessage(*reply.value());

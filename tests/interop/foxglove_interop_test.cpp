@@ -77,7 +77,8 @@ class FoxgloveInterop : public ::testing::Test {
       fs::copy_file(kSourceDir / f, kNodeDir / f, fs::copy_options::overwrite_existing);
     const int code = runCommand("npm ci --no-audit --no-fund --prefix " + kNodeDir.string(), kNodeDir / "npm.out",
                                 kNodeDir / "npm.err");
-    setup_error_ = code == 0 ? "" : "npm ci failed (npm's registry must be reachable):\n" + tail(readFile(kNodeDir / "npm.err"));
+    setup_error_ =
+        code == 0 ? "" : "npm ci failed (npm's registry must be reachable):\n" + tail(readFile(kNodeDir / "npm.err"));
   }
 
   void SetUp() override {
@@ -101,7 +102,8 @@ class FoxgloveInterop : public ::testing::Test {
   // foxglove's reading of `bytes` as a `type`.
   Flat foxgloveDecode(const std::string& type, const std::vector<uint8_t>& bytes) {
     const fs::path in = dir_ / "in.cdr", out = dir_ / "out.flat";
-    std::ofstream(in, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    std::ofstream(in, std::ios::binary)
+        .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
     const int code = runCommand(node(" decode " + type + " " + in.string() + " " + out.string()), dir_ / "node.out",
                                 dir_ / "node.err");
     EXPECT_EQ(code, 0) << readFile(dir_ / "node.err");
@@ -117,8 +119,8 @@ class FoxgloveInterop : public ::testing::Test {
         ADD_FAILURE() << type << ": foxglove read no field " << path;
         continue;
       }
-      EXPECT_TRUE(sameValue(it->second, value)) << type << "." << path << ": foxglove read " << it->second
-                                                << ", semfuse wrote " << value;
+      EXPECT_TRUE(sameValue(it->second, value))
+          << type << "." << path << ": foxglove read " << it->second << ", semfuse wrote " << value;
     }
   }
 
@@ -187,7 +189,8 @@ const char* kStatus =
     "rejected[0].reason=\"invalid_frame\"\nrejected[0].camera_id=\"cam1\"\nrejected[0].count=3\nqueued_frames=4\n"
     "pending_segmentations=5\nhistory_frames=6\nvoxel_size=0.01\ntruncation=0.04\nallocated_voxels=123456789012\n"
     "allocated_blocks=7\nmap_bytes=8\nrss_bytes=9\ncameras[0].camera_id=\"cam0\"\ncameras[0].tracking_state=1\n"
-    "cameras[0].last_seq=99\ncameras[0].frames_received=100\ncameras[0].frames_integrated=97\ncameras[0].frames_lost=1\n"
+    "cameras[0].last_seq=99\ncameras[0].frames_received=100\ncameras[0].frames_integrated=97\ncameras[0].frames_lost="
+    "1\n"
     "cameras[0].frame_rate_hz=29.5\ncameras[0].last_frame_age_s=0.25\ncameras[0].stale=false\n"
     "last_errors[0].stamp.sec=3\nlast_errors[0].stamp.nanosec=4\nlast_errors[0].source=\"ingest\"\n"
     "last_errors[0].message=\"depth: unknown encoding 'rgb16'\"\nmap_file=\"/tmp/map.vdb\"\nlast_save_ok=true\n"
@@ -211,22 +214,23 @@ TEST_F(FoxgloveInterop, StandardRosMessagesAgreeFieldForField) {
     EXPECT_FLOAT_EQ(depth.value().at<float>(0, 0), 1.0f);
     EXPECT_FLOAT_EQ(depth.value().at<float>(1, 2), 6.0f);
   });
-  roundTrip<sensor_msgs_msg_dds__CameraInfo_>("sensor_msgs/CameraInfo", kCameraInfo, [](const sensor_msgs_msg_dds__CameraInfo_& m) {
-    EXPECT_EQ(m.width, 64u);
-    EXPECT_EQ(str(m.distortion_model), "plumb_bob");
-    ASSERT_EQ(m.d._length, 5u);
-    EXPECT_EQ(m.d._buffer[1], -0.2);
-    EXPECT_EQ(m.p[6], 23.5);
-    EXPECT_EQ(m.binning_y, 2u);
-    EXPECT_EQ(m.roi.width, 6u);
-    EXPECT_TRUE(m.roi.do_rectify);
-    auto k = wire::intrinsicsFromCameraInfo(m);
-    ASSERT_TRUE(k.ok()) << k.error();
-    EXPECT_EQ(k.value().fx, 50.5);
-    EXPECT_EQ(k.value().fy, 51.25);
-    EXPECT_EQ(k.value().cx, 31.5);
-    EXPECT_EQ(k.value().cy, 23.5);
-  });
+  roundTrip<sensor_msgs_msg_dds__CameraInfo_>("sensor_msgs/CameraInfo", kCameraInfo,
+                                              [](const sensor_msgs_msg_dds__CameraInfo_& m) {
+                                                EXPECT_EQ(m.width, 64u);
+                                                EXPECT_EQ(str(m.distortion_model), "plumb_bob");
+                                                ASSERT_EQ(m.d._length, 5u);
+                                                EXPECT_EQ(m.d._buffer[1], -0.2);
+                                                EXPECT_EQ(m.p[6], 23.5);
+                                                EXPECT_EQ(m.binning_y, 2u);
+                                                EXPECT_EQ(m.roi.width, 6u);
+                                                EXPECT_TRUE(m.roi.do_rectify);
+                                                auto k = wire::intrinsicsFromCameraInfo(m);
+                                                ASSERT_TRUE(k.ok()) << k.error();
+                                                EXPECT_EQ(k.value().fx, 50.5);
+                                                EXPECT_EQ(k.value().fy, 51.25);
+                                                EXPECT_EQ(k.value().cx, 31.5);
+                                                EXPECT_EQ(k.value().cy, 23.5);
+                                              });
   roundTrip<tf2_msgs_msg_dds__TFMessage_>("tf2_msgs/TFMessage", kTf, [](const tf2_msgs_msg_dds__TFMessage_& m) {
     ASSERT_EQ(m.transforms._length, 2u);
     const auto& t = m.transforms._buffer[0];
@@ -254,19 +258,20 @@ TEST_F(FoxgloveInterop, SemfuseMessagesFromTheMsgFilesAgreeFieldForField) {
     EXPECT_FLOAT_EQ(frame.value().depth.at<float>(0, 0), 2.0f);
     EXPECT_EQ(frame.value().color.at<cv::Vec3b>(0, 1), cv::Vec3b(0, 128, 255));
   });
-  roundTrip<semfuse_msg_dds__ServerStatus_>("semfuse/ServerStatus", kStatus, [](const semfuse_msg_dds__ServerStatus_& m) {
-    EXPECT_EQ(m.frames_integrated, 97u);
-    ASSERT_EQ(m.dropped._length, 2u);
-    EXPECT_EQ(str(m.dropped._buffer[1].reason), "ros_no_tf");
-    EXPECT_EQ(m.dropped._buffer[1].count, 5000000000ull);
-    ASSERT_EQ(m.cameras._length, 1u);
-    EXPECT_EQ(m.cameras._buffer[0].tracking_state, 1);
-    EXPECT_FLOAT_EQ(m.cameras._buffer[0].frame_rate_hz, 29.5f);
-    ASSERT_EQ(m.last_errors._length, 1u);
-    EXPECT_EQ(str(m.last_errors._buffer[0].message), "depth: unknown encoding 'rgb16'");
-    EXPECT_EQ(m.allocated_voxels, 123456789012ull);
-    EXPECT_EQ(m.last_save_age_s, 1.5);
-  });
+  roundTrip<semfuse_msg_dds__ServerStatus_>(
+      "semfuse/ServerStatus", kStatus, [](const semfuse_msg_dds__ServerStatus_& m) {
+        EXPECT_EQ(m.frames_integrated, 97u);
+        ASSERT_EQ(m.dropped._length, 2u);
+        EXPECT_EQ(str(m.dropped._buffer[1].reason), "ros_no_tf");
+        EXPECT_EQ(m.dropped._buffer[1].count, 5000000000ull);
+        ASSERT_EQ(m.cameras._length, 1u);
+        EXPECT_EQ(m.cameras._buffer[0].tracking_state, 1);
+        EXPECT_FLOAT_EQ(m.cameras._buffer[0].frame_rate_hz, 29.5f);
+        ASSERT_EQ(m.last_errors._length, 1u);
+        EXPECT_EQ(str(m.last_errors._buffer[0].message), "depth: unknown encoding 'rgb16'");
+        EXPECT_EQ(m.allocated_voxels, 123456789012ull);
+        EXPECT_EQ(m.last_save_age_s, 1.5);
+      });
 }
 
 // Messages built by semfuse's own encoders (not from foxglove's bytes) read by foxglove.

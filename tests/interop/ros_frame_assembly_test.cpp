@@ -104,7 +104,9 @@ class AssemblerTest : public ::testing::Test {
     return o;
   }
   TfBuffer tf;
-  RosFrameAssembler::PoseLookup lookup = [this](const std::string& frame, Stamp s) { return tf.lookup("map", frame, s); };
+  RosFrameAssembler::PoseLookup lookup = [this](const std::string& frame, Stamp s) {
+    return tf.lookup("map", frame, s);
+  };
   Clock::time_point t0 = Clock::now();
   std::vector<Frame> frames;
   std::vector<RosFrameAssembler::Drop> drops;

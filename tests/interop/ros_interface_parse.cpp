@@ -41,15 +41,14 @@ Field idlMember(const std::string& decl) {
 const std::map<std::string, std::string>& primitiveMap() {
   // rosidl primitive -> the IDL spelling rosidl_generator_dds_idl emits (and idl/ uses).
   static const std::map<std::string, std::string> map = {
-      {"bool", "boolean"}, {"byte", "octet"},     {"char", "uint8"},   {"float32", "float"},
-      {"float64", "double"}, {"int8", "int8"},    {"uint8", "uint8"},  {"int16", "int16"},
-      {"uint16", "uint16"}, {"int32", "int32"},   {"uint32", "uint32"}, {"int64", "int64"},
-      {"uint64", "uint64"}, {"string", "string"}};
+      {"bool", "boolean"},  {"byte", "octet"},  {"char", "uint8"},    {"float32", "float"}, {"float64", "double"},
+      {"int8", "int8"},     {"uint8", "uint8"}, {"int16", "int16"},   {"uint16", "uint16"}, {"int32", "int32"},
+      {"uint32", "uint32"}, {"int64", "int64"}, {"uint64", "uint64"}, {"string", "string"}};
   return map;
 }
 
-void parseMsgSection(const std::string& text, const std::string& package,
-                     const std::string& type_name, bool with_request_header, TypeSet& out) {
+void parseMsgSection(const std::string& text, const std::string& package, const std::string& type_name,
+                     bool with_request_header, TypeSet& out) {
   std::vector<Field> fields;
   if (with_request_header) {
     fields.push_back({"uint64", "client_guid_"});
@@ -132,13 +131,11 @@ void parseIdl(const std::string& text, const std::string& outer_module, TypeSet&
   }
 }
 
-void parseMsg(const std::string& text, const std::string& package, const std::string& name,
-              TypeSet& out) {
+void parseMsg(const std::string& text, const std::string& package, const std::string& name, TypeSet& out) {
   parseMsgSection(text, package, package + "::msg::dds_::" + name + "_", false, out);
 }
 
-void parseSrv(const std::string& text, const std::string& package, const std::string& name,
-              TypeSet& out) {
+void parseSrv(const std::string& text, const std::string& package, const std::string& name, TypeSet& out) {
   static const std::regex separator(R"((^|\n)---[ \t]*(\r?\n|$))");
   std::smatch m;
   if (!std::regex_search(text, m, separator)) throw std::runtime_error(name + ".srv: no '---'");

@@ -36,13 +36,11 @@ struct TypeSet {
 void parseIdl(const std::string& text, const std::string& outer_module, TypeSet& out);
 
 // Parses one .msg text as type semfuse::msg::dds_::<name>_.
-void parseMsg(const std::string& text, const std::string& package, const std::string& name,
-              TypeSet& out);
+void parseMsg(const std::string& text, const std::string& package, const std::string& name, TypeSet& out);
 
 // Parses one .srv text as <Name>_Request_ / <Name>_Response_, each starting with the
 // rmw_cyclonedds request header (client_guid_, sequence_number_).
-void parseSrv(const std::string& text, const std::string& package, const std::string& name,
-              TypeSet& out);
+void parseSrv(const std::string& text, const std::string& package, const std::string& name, TypeSet& out);
 
 // The IDL spelling of a .msg field type ("float64[12]" -> "double[12]", "Counter[]" ->
 // "sequence<semfuse::msg::dds_::Counter_>"). Throws on an unknown primitive.

@@ -60,8 +60,7 @@ TEST(RosInterfaceSync, EveryIdlStructHasAnIdenticalRosInterface) {
   for (const auto& [name, fields] : idl.structs) {
     const auto it = ros.structs.find(name);
     ASSERT_NE(it, ros.structs.end()) << name << " has no .msg/.srv in " << kPackage;
-    EXPECT_EQ(it->second, fields) << name << "\nIDL:\n" << describe(fields) << ".msg/.srv:\n"
-                                  << describe(it->second);
+    EXPECT_EQ(it->second, fields) << name << "\nIDL:\n" << describe(fields) << ".msg/.srv:\n" << describe(it->second);
   }
   for (const auto& [name, fields] : ros.structs) {
     EXPECT_TRUE(idl.structs.count(name)) << name << " is in the ROS package but not in idl/semfuse";
@@ -114,11 +113,12 @@ TEST(RosInterfaceSync, ColconCMakeListsNamesEveryInterfaceFile) {
 // field are each detected.
 TEST(RosInterfaceSync, ParsersSeeOrderTypeAndNameDifferences) {
   TypeSet idl;
-  parseIdl("module semfuse { module msg { module dds_ {\n"
-           "  struct Counter_ { string reason; string camera_id; uint64 count; };\n"
-           "  struct Frame_ { double camera_to_world[12]; sequence<uint8> depth; };\n"
-           "}; }; };",
-           "semfuse::msg::dds_", idl);
+  parseIdl(
+      "module semfuse { module msg { module dds_ {\n"
+      "  struct Counter_ { string reason; string camera_id; uint64 count; };\n"
+      "  struct Frame_ { double camera_to_world[12]; sequence<uint8> depth; };\n"
+      "}; }; };",
+      "semfuse::msg::dds_", idl);
   auto rosOf = [](const std::string& text) {
     TypeSet t;
     parseMsg(text, "semfuse", "Counter", t);

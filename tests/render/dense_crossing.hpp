@@ -21,7 +21,9 @@ inline double denseFirstCrossing(const volume::LabeledVolume& volume, const Pinh
                                  int u, int v, const RaycastOptions& options) {
   volume::VolumeSampler sampler(volume);
   const Eigen::Vector3d direction = pose.linear() * Eigen::Vector3d((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);
-  auto valueAt = [&](double t, float& f) { return sampler.tsdf(Eigen::Vector3d(pose.translation() + t * direction), f); };
+  auto valueAt = [&](double t, float& f) {
+    return sampler.tsdf(Eigen::Vector3d(pose.translation() + t * direction), f);
+  };
   const double step = volume.voxelSize() / 50.0 / direction.norm();
   // The last valid ray parameter between a valid and an invalid one (either order).
   auto boundary = [&](double valid, double invalid) {

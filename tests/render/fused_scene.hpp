@@ -37,9 +37,8 @@ inline std::vector<Pose> arcAround(const Eigen::Vector3d& target, double distanc
 }
 
 // Integrates exact depth, colour and (with_labels) ground-truth labels of every pose.
-inline void fuse(volume::LabeledVolume& volume, const synthetic::LabeledScene& scene,
-                 const std::vector<Pose>& poses, const PinholeIntrinsics& camera = kSmallCamera,
-                 bool with_labels = true) {
+inline void fuse(volume::LabeledVolume& volume, const synthetic::LabeledScene& scene, const std::vector<Pose>& poses,
+                 const PinholeIntrinsics& camera = kSmallCamera, bool with_labels = true) {
   for (const Pose& pose : poses) {
     const auto view = synthetic::renderView(scene, camera, pose);
     ASSERT_TRUE(view.ok()) << view.error();

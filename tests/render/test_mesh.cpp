@@ -35,8 +35,11 @@ class FusedSceneTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     scene_ = new synthetic::LabeledScene();
-    scene_->add({"plane", synthetic::OrientedBox{{0, 0, -0.1}, {1.0, 1.0, 0.1}, Eigen::Matrix3d::Identity()}, 1,
-                 {200, 180, 150}, synthetic::Texture::kChecker});
+    scene_->add({"plane",
+                 synthetic::OrientedBox{{0, 0, -0.1}, {1.0, 1.0, 0.1}, Eigen::Matrix3d::Identity()},
+                 1,
+                 {200, 180, 150},
+                 synthetic::Texture::kChecker});
     scene_->add({"sphere", synthetic::Sphere{{0.0, 0.0, 0.3}, 0.25}, 7, {200, 40, 40}, synthetic::Texture::kNoise});
     volume_ = new volume::LabeledVolume(testing::fusedVolumeParams());
     testing::fuse(*volume_, *scene_, testing::arcAround({0, 0, 0.2}, 1.1, 0.6, 8, 2.5));
@@ -112,7 +115,10 @@ TEST_P(MeshTest, UnobservedSpaceProducesNoSurface) {
   // One frontal view of a plane: the band ends where observation ends; no wall of triangles may
   // appear along the back of the band or at the edges of the view.
   synthetic::LabeledScene scene;
-  scene.add({"wall", synthetic::OrientedBox{{1.0, 0, 0}, {0.1, 2, 2}, Eigen::Matrix3d::Identity()}, 2, {90, 90, 90},
+  scene.add({"wall",
+             synthetic::OrientedBox{{1.0, 0, 0}, {0.1, 2, 2}, Eigen::Matrix3d::Identity()},
+             2,
+             {90, 90, 90},
              synthetic::Texture::kNoise});
   volume::VolumeParams p;
   volume::LabeledVolume volume(p);

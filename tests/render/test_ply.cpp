@@ -90,7 +90,8 @@ TEST(Ply, InconsistentMeshIsAnError) {
 }
 
 TEST(Ply, WritesTheSameBytesToAFile) {
-  const auto path = std::filesystem::temp_directory_path() / ("semfuse_test_mesh_" + std::to_string(::getpid()) + ".ply");
+  const auto path =
+      std::filesystem::temp_directory_path() / ("semfuse_test_mesh_" + std::to_string(::getpid()) + ".ply");
   ASSERT_TRUE(writePly(twoTriangles(), LabelLegend{}, path).ok());
   std::ifstream file(path, std::ios::binary);
   const std::string on_disk((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());

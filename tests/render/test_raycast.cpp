@@ -24,8 +24,11 @@ using testing::kVoxel;
 // A floor slab (top at z = 0) and a sphere resting above it, each with its own label.
 LabeledScene planeAndSphere() {
   LabeledScene scene;
-  scene.add({"plane", synthetic::OrientedBox{{0, 0, -0.1}, {1.5, 1.5, 0.1}, Eigen::Matrix3d::Identity()}, 1,
-             {200, 180, 150}, synthetic::Texture::kChecker});
+  scene.add({"plane",
+             synthetic::OrientedBox{{0, 0, -0.1}, {1.5, 1.5, 0.1}, Eigen::Matrix3d::Identity()},
+             1,
+             {200, 180, 150},
+             synthetic::Texture::kChecker});
   scene.add({"sphere", synthetic::Sphere{{0.1, 0.05, 0.35}, 0.3}, 7, {200, 40, 40}, synthetic::Texture::kNoise});
   return scene;
 }
@@ -96,8 +99,8 @@ TEST_F(RaycastTest, NormalsAndLabelsMatchTheSurfaceHit) {
 // The fast path against the plain march: where the two disagree (rarely), the brute-force
 // crossing decides, and the fast path must be the one that found it.
 struct Disagreement {
-  int hit = 0;        // pixels where either found a surface
-  int differ = 0;     // of those, where they differ by a tenth of a voxel or more
+  int hit = 0;          // pixels where either found a surface
+  int differ = 0;       // of those, where they differ by a tenth of a voxel or more
   int fast_right = 0;   // of those, where the fast path matches the brute-force crossing
   int plain_right = 0;  // ... and where the plain march does
 };
@@ -126,8 +129,8 @@ Disagreement judgeDisagreements(const volume::LabeledVolume& volume, const Pinho
 // its samples and misses those right behind the boundary of observed space; the fast path misses
 // only where the ray touches the zero level tangentially).
 void expectFastPathRightWhereTheyDiffer(const volume::LabeledVolume& volume, const PinholeIntrinsics& k,
-                                       const Pose& pose, const RaycastOptions& options, const cv::Mat& fast,
-                                       const cv::Mat& plain) {
+                                        const Pose& pose, const RaycastOptions& options, const cv::Mat& fast,
+                                        const cv::Mat& plain) {
   const Disagreement d = judgeDisagreements(volume, k, pose, options, fast, plain);
   ASSERT_GT(d.hit, 1000);
   EXPECT_LT(d.differ, 0.015 * d.hit);
@@ -205,8 +208,11 @@ TEST(RaycastRoom, KernelsGiveBitIdenticalImages) {
     return std::move(images).value();
   };
   auto expectSame = [](const RaycastImages& a, const RaycastImages& b) {
-    for (const auto& [x, y] : {std::pair{a.depth, b.depth}, {a.normals, b.normals}, {a.labels, b.labels},
-                               {a.scores, b.scores}, {a.color, b.color}}) {
+    for (const auto& [x, y] : {std::pair{a.depth, b.depth},
+                               {a.normals, b.normals},
+                               {a.labels, b.labels},
+                               {a.scores, b.scores},
+                               {a.color, b.color}}) {
       ASSERT_EQ(x.size(), y.size());
       EXPECT_EQ(0, std::memcmp(x.data, y.data, x.total() * x.elemSize()));
     }
@@ -246,7 +252,8 @@ TEST_F(RaycastTest, SaveLoadRaycastIsBitIdentical) {
   no_color.integrate_color = false;
   volume::LabeledVolume fused{no_color};
   testing::fuse(fused, scene_, testing::arcAround({0.1, 0.05, 0.2}, 1.2, 0.7, 6));
-  const auto path = std::filesystem::temp_directory_path() / ("semfuse_render_roundtrip_" + std::to_string(::getpid()) + ".vdb");
+  const auto path =
+      std::filesystem::temp_directory_path() / ("semfuse_render_roundtrip_" + std::to_string(::getpid()) + ".vdb");
   const Status saved = volume::saveMap(fused, LabelLegend{}, path);
   ASSERT_TRUE(saved.ok()) << saved.error();
   auto loaded = volume::loadMap(path);
@@ -255,8 +262,8 @@ TEST_F(RaycastTest, SaveLoadRaycastIsBitIdentical) {
   const RaycastOptions layers{kDepthLayer | kNormalLayer | kLabelLayer | kScoreLayer};
   const auto a = raycast(fused, testing::kSmallCamera, novel_, layers).value();
   const auto b = raycast(loaded.value().volume, testing::kSmallCamera, novel_, layers).value();
-  for (const auto& [x, y] : {std::pair{a.depth, b.depth}, {a.normals, b.normals}, {a.labels, b.labels},
-                             {a.scores, b.scores}}) {
+  for (const auto& [x, y] :
+       {std::pair{a.depth, b.depth}, {a.normals, b.normals}, {a.labels, b.labels}, {a.scores, b.scores}}) {
     ASSERT_EQ(x.size(), y.size());
     EXPECT_EQ(0, std::memcmp(x.data, y.data, x.total() * x.elemSize()));
   }
@@ -274,8 +281,11 @@ TEST_F(RaycastTest, PreparedRaycastRendersTheVolumeAsItWasWhenPrepared) {
   const auto later = raycast(std::move(prepared.value()));
   ASSERT_TRUE(later.ok()) << later.error();
   const RaycastImages& b = later.value();
-  for (const auto& [x, y] : {std::pair{direct.depth, b.depth}, {direct.normals, b.normals}, {direct.labels, b.labels},
-                             {direct.scores, b.scores}, {direct.color, b.color}}) {
+  for (const auto& [x, y] : {std::pair{direct.depth, b.depth},
+                             {direct.normals, b.normals},
+                             {direct.labels, b.labels},
+                             {direct.scores, b.scores},
+                             {direct.color, b.color}}) {
     ASSERT_EQ(x.size(), y.size());
     EXPECT_EQ(0, std::memcmp(x.data, y.data, x.total() * x.elemSize()));
   }

@@ -22,15 +22,18 @@ using testing::kVoxel;
 // surface crosses the cells 0.3 voxel above their base) and a sphere on it.
 synthetic::LabeledScene floorAndSphere() {
   synthetic::LabeledScene scene;
-  scene.add({"floor", synthetic::OrientedBox{{0, 0, -0.097}, {1.5, 1.5, 0.1}, Eigen::Matrix3d::Identity()}, 1,
-             {200, 180, 150}, synthetic::Texture::kChecker});
+  scene.add({"floor",
+             synthetic::OrientedBox{{0, 0, -0.097}, {1.5, 1.5, 0.1}, Eigen::Matrix3d::Identity()},
+             1,
+             {200, 180, 150},
+             synthetic::Texture::kChecker});
   scene.add({"sphere", synthetic::Sphere{{0.1, 0.05, 0.35}, 0.3}, 7, {200, 40, 40}, synthetic::Texture::kNoise});
   return scene;
 }
 
 struct BoundsCheck {
-  int hits = 0;       // pixels where the plain march found the surface
-  int outside = 0;    // of those, where the brute-force crossing lies outside the pixel's bounds
+  int hits = 0;                   // pixels where the plain march found the surface
+  int outside = 0;                // of those, where the brute-force crossing lies outside the pixel's bounds
   double mean_lead_voxels = 0.0;  // mean (hit depth - near bound), voxels of depth
   double max_lead_voxels = 0.0;
 };
@@ -65,8 +68,8 @@ BoundsCheck checkBounds(const volume::LabeledVolume& volume, const PinholeIntrin
           const double truth = testing::denseFirstCrossing(volume, k, pose, u, v, plain);
           if (truth > 0.0 && !inside(truth)) {
             ++check.outside;
-            ADD_FAILURE() << "pixel (" << u << ", " << v << "): crossing at depth " << truth << ", bounds ["
-                          << near << ", " << far << "]";
+            ADD_FAILURE() << "pixel (" << u << ", " << v << "): crossing at depth " << truth << ", bounds [" << near
+                          << ", " << far << "]";
           }
           continue;
         }

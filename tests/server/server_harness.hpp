@@ -63,8 +63,9 @@ class ServerHarness {
   // Starts semfuse-server with the loopback profile, this harness's domain and `args`; waits
   // until it reads frames.
   void startServer(const std::vector<std::string>& args) {
-    std::vector<std::string> argv{SEMFUSE_SERVER_EXE, "--domain-id", std::to_string(domain_), "--dds-profile",
-                                  loopbackProfile(), "--log-level", "warn"};
+    std::vector<std::string> argv{
+        SEMFUSE_SERVER_EXE, "--domain-id", std::to_string(domain_), "--dds-profile", loopbackProfile(),
+        "--log-level",      "warn"};
     argv.insert(argv.end(), args.begin(), args.end());
     server_ = std::make_unique<ChildProcess>(argv);
     ASSERT_TRUE(frames_.waitForReaders(1, DDS_SECS(30))) << "semfuse-server did not come up";
@@ -81,7 +82,7 @@ class ServerHarness {
 
   // Waits for the pose the server publishes for (camera, seq).
   std::optional<dds::Sample<semfuse_msg_dds__TrackedPose_>> waitPose(const std::string& camera, uint64_t seq,
-                                                                      std::chrono::milliseconds timeout) {
+                                                                     std::chrono::milliseconds timeout) {
     const auto deadline = std::chrono::steady_clock::now() + timeout;
     while (std::chrono::steady_clock::now() < deadline) {
       while (auto pose = poses_.take())
@@ -104,7 +105,8 @@ class ServerHarness {
     dds::Sample<semfuse_msg_dds__ServerStatus_> copy;
     if (latest_) {
       auto bytes = dds::serialize(**latest_);
-      if (auto back = dds::deserialize<semfuse_msg_dds__ServerStatus_>(bytes.data(), bytes.size()); back.ok()) copy = std::move(back).value();
+      if (auto back = dds::deserialize<semfuse_msg_dds__ServerStatus_>(bytes.data(), bytes.size()); back.ok())
+        copy = std::move(back).value();
     }
     return copy;
   }

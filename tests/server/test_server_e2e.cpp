@@ -38,8 +38,20 @@ synthetic::SequenceConfig sequenceConfig() {
 }
 
 std::vector<std::string> serverArgs(const std::filesystem::path& map) {
-  return {"--legend", "synthetic", "--voxel-size", std::to_string(kVoxel), "--truncation", std::to_string(4 * kVoxel),
-          "--map", map.string(), "--autosave-period", "0", "--pending-timeout", "2", "--queue-per-camera", "64"};
+  return {"--legend",
+          "synthetic",
+          "--voxel-size",
+          std::to_string(kVoxel),
+          "--truncation",
+          std::to_string(4 * kVoxel),
+          "--map",
+          map.string(),
+          "--autosave-period",
+          "0",
+          "--pending-timeout",
+          "2",
+          "--queue-per-camera",
+          "64"};
 }
 
 void publishFrame(ServerHarness& h, const Frame& frame) {
@@ -93,10 +105,8 @@ TEST_F(ServerEndToEnd, FusesLateSegmentationsAnswersQueriesAndResumesAfterRestar
     ASSERT_TRUE(both.ok()) << both.error();
     publishFrame(h, both.value().first);
     ASSERT_TRUE(h.waitPose("cam0", static_cast<uint64_t>(i), 20s)) << "no pose for frame " << i;
-    if (i % 3 == 0)
-      held.push_back(both.value().second);
-    else
-      publishSegmentation(h, both.value().second);
+    if (i % 3 == 0) held.push_back(both.value().second);
+    else publishSegmentation(h, both.value().second);
     if (held.size() == 4 || i == kFrames - 1) {
       std::reverse(held.begin(), held.end());
       for (const auto& late : held) publishSegmentation(h, late);
@@ -116,8 +126,9 @@ TEST_F(ServerEndToEnd, FusesLateSegmentationsAnswersQueriesAndResumesAfterRestar
   // Raycast from a pose between two frames: labels agree with the ground truth.
   const Pose view_pose = sequence.config().trajectory.pose(10.5);
   const PinholeIntrinsics k = sequence.config().intrinsics;
-  auto request = raycastRequest(view_pose, k, semfuse_srv_dds__Raycast_Request_Constants_LAYER_DEPTH |
-                                                  semfuse_srv_dds__Raycast_Request_Constants_LAYER_LABELS);
+  auto request = raycastRequest(
+      view_pose, k,
+      semfuse_srv_dds__Raycast_Request_Constants_LAYER_DEPTH | semfuse_srv_dds__Raycast_Request_Constants_LAYER_LABELS);
   auto reply = h.raycast().call(request, 20s);
   ASSERT_TRUE(reply.ok()) << reply.error();
   ASSERT_EQ(reply.value()->status, 0) << dds::replyMessage(*reply.value());
@@ -164,7 +175,8 @@ TEST_F(ServerEndToEnd, FusesLateSegmentationsAnswersQueriesAndResumesAfterRestar
   auto after = h.raycast().call(request, 20s);
   ASSERT_TRUE(after.ok()) << after.error();
   ASSERT_EQ(after.value()->status, 0) << dds::replyMessage(*after.value());
-  const cv::Mat depth_before = imageOf(before.value()->depth, CV_32FC1), depth_after = imageOf(after.value()->depth, CV_32FC1);
+  const cv::Mat depth_before = imageOf(before.value()->depth, CV_32FC1),
+                depth_after = imageOf(after.value()->depth, CV_32FC1);
   EXPECT_EQ(cv::norm(depth_before, depth_after, cv::NORM_INF), 0.0);
   EXPECT_EQ(cv::countNonZero(imageOf(before.value()->labels, CV_16UC1) != imageOf(after.value()->labels, CV_16UC1)), 0);
 }
@@ -257,7 +269,8 @@ TEST_F(ServerEndToEnd, RejectsBadInputCountsItAndKeepsServing) {
   EXPECT_EQ(counterOf(status->dropped, "sequence_gap"), 0u);
   // Each rejection left a precise message in the status.
   std::string errors;
-  for (uint32_t i = 0; i < status->last_errors._length; ++i) errors += std::string(status->last_errors._buffer[i].message) + "\n";
+  for (uint32_t i = 0; i < status->last_errors._length; ++i)
+    errors += std::string(status->last_errors._buffer[i].message) + "\n";
   EXPECT_NE(errors.find("depth"), std::string::npos) << errors;
   EXPECT_NE(errors.find("99"), std::string::npos) << errors;
   EXPECT_NE(errors.find("nobody"), std::string::npos) << errors;
@@ -268,7 +281,8 @@ TEST_F(ServerEndToEnd, RejectsBadInputCountsItAndKeepsServing) {
   next.seq = 5;
   publishFrame(h, next);
   ASSERT_TRUE(h.waitPose("cam0", 5, 20s));
-  auto request = raycastRequest(*good.camera_to_world, good.intrinsics, semfuse_srv_dds__Raycast_Request_Constants_LAYER_DEPTH);
+  auto request =
+      raycastRequest(*good.camera_to_world, good.intrinsics, semfuse_srv_dds__Raycast_Request_Constants_LAYER_DEPTH);
   auto reply = h.raycast().call(request, 20s);
   ASSERT_TRUE(reply.ok()) << reply.error();
   EXPECT_EQ(reply.value()->status, 0) << dds::replyMessage(*reply.value());

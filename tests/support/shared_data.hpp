@@ -25,11 +25,11 @@ inline bool runningInCi() {
 }  // namespace semfuse::testing
 
 // Use at the top of a test body: skips (developer machine) or fails (CI) without the data.
-#define SEMFUSE_REQUIRE_SHARED_DIR(path)                                                  \
-  do {                                                                                    \
-    if (!std::filesystem::exists(path)) {                                                 \
-      if (::semfuse::testing::runningInCi())                                              \
-        FAIL() << "shared data missing in CI: " << (path) << " (set SEMFUSE_SHARED)";     \
-      GTEST_SKIP() << "shared data not found: " << (path) << " (set SEMFUSE_SHARED)";     \
-    }                                                                                     \
+#define SEMFUSE_REQUIRE_SHARED_DIR(path)                                              \
+  do {                                                                                \
+    if (!std::filesystem::exists(path)) {                                             \
+      if (::semfuse::testing::runningInCi())                                          \
+        FAIL() << "shared data missing in CI: " << (path) << " (set SEMFUSE_SHARED)"; \
+      GTEST_SKIP() << "shared data not found: " << (path) << " (set SEMFUSE_SHARED)"; \
+    }                                                                                 \
   } while (0)

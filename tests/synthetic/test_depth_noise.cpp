@@ -44,8 +44,8 @@ TEST(DepthNoise, SpreadGrowsWithDistanceSquared) {
   const DepthNoiseParams params;
   EXPECT_LT(axialSigma(params, 1.0, 0.0), axialSigma(params, 2.0, 0.0));
   // Quadratic term: (4 - 0.4)^2 / (2 - 0.4)^2 = 5.0625 times larger.
-  EXPECT_NEAR((axialSigma(params, 4.0, 0.0) - params.sigma_base) /
-                  (axialSigma(params, 2.0, 0.0) - params.sigma_base), 5.0625, 1e-9);
+  EXPECT_NEAR((axialSigma(params, 4.0, 0.0) - params.sigma_base) / (axialSigma(params, 2.0, 0.0) - params.sigma_base),
+              5.0625, 1e-9);
   EXPECT_GT(axialSigma(params, 2.0, 1.2), axialSigma(params, 2.0, 0.0));  // grazing is noisier
 }
 

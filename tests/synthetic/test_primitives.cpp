@@ -1,8 +1,8 @@
 // Exact ray intersection and signed distance of each primitive, against hand-computed values.
 #include <cmath>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 
 #include "semfuse/synthetic/primitives.hpp"

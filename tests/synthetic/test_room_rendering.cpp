@@ -95,8 +95,8 @@ TEST(RoomRendering, ColourIsTexturedNotFlat) {
   const RenderedView view = render(room, lookingDown({-1.5, 0.0, 1.5}));
   cv::Scalar mean, stddev;
   cv::meanStdDev(view.color, mean, stddev, view.labels == labels::kFloor);
-  EXPECT_GT(stddev[0], 10.0);  // checker tiles and noise on the floor
-  EXPECT_GT(mean[0], mean[2]); // the floor is a warm colour
+  EXPECT_GT(stddev[0], 10.0);   // checker tiles and noise on the floor
+  EXPECT_GT(mean[0], mean[2]);  // the floor is a warm colour
 }
 
 TEST(RoomRendering, WithoutCeilingRaysUpwardSeeNothing) {

@@ -1,8 +1,8 @@
 // The camera stream of the synthetic room: smooth trajectory, consistent frames, determinism.
 #include <cmath>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 
 #include "semfuse/synthetic/synthetic_sequence.hpp"

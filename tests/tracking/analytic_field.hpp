@@ -45,8 +45,8 @@ class AnalyticField final : public SdfField {
       for (int a = 0; a < 3; ++a) {
         Eigen::Vector3d step = Eigen::Vector3d::Zero();
         step[a] = h;
-        out.gradient[a] = d >= truncation_ ? 0.0f
-                                           : static_cast<float>((distance(x + step) - distance(x - step)) / (2 * h));
+        out.gradient[a] =
+            d >= truncation_ ? 0.0f : static_cast<float>((distance(x + step) - distance(x - step)) / (2 * h));
       }
       return true;
     }

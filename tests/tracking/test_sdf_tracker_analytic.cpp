@@ -7,8 +7,8 @@
 
 #include "analytic_field.hpp"
 #include "semfuse/synthetic/primitives.hpp"
-#include "tracking_fixtures.hpp"
 #include "semfuse/tracking/sdf_tracker.hpp"
+#include "tracking_fixtures.hpp"
 
 namespace semfuse::tracking::testing {
 namespace {
@@ -40,9 +40,8 @@ TEST_F(AnalyticTracking, RecoversKnownRigidOffsets) {
     Result<Alignment> aligned = tracker.align(view_->depth, view_->intrinsics, field, guess);
     ASSERT_TRUE(aligned.ok()) << aligned.error();
     const Alignment& a = aligned.value();
-    SCOPED_TRACE(::testing::Message() << "offset " << offset.angle_deg << " deg, "
-                                      << offset.translation_m.transpose() << " m; start error "
-                                      << translationError(guess, referencePose()) << " m");
+    SCOPED_TRACE(::testing::Message() << "offset " << offset.angle_deg << " deg, " << offset.translation_m.transpose()
+                                      << " m; start error " << translationError(guess, referencePose()) << " m");
     EXPECT_TRUE(a.ok()) << toString(a.lost_reason);
     EXPECT_LT(translationError(a.pose, referencePose()), 0.5e-3);
     EXPECT_LT(rotationErrorDeg(a.pose, referencePose()), 0.05);

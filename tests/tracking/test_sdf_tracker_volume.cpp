@@ -25,8 +25,8 @@ class VolumeTracking : public ::testing::Test {
     // Views from around the reference camera (not the reference itself): the tracked image is
     // never one the map was built from.
     const Eigen::Vector3d target(-0.3, 0.4, 0.7);
-    const std::vector<Eigen::Vector3d> eyes{{1.5, -1.2, 1.5}, {1.1, -1.0, 1.6}, {1.4, -0.8, 1.3},
-                                            {1.2, -1.4, 1.45}, {1.35, -1.1, 1.7}};
+    const std::vector<Eigen::Vector3d> eyes{
+        {1.5, -1.2, 1.5}, {1.1, -1.0, 1.6}, {1.4, -0.8, 1.3}, {1.2, -1.4, 1.45}, {1.35, -1.1, 1.7}};
     for (const Eigen::Vector3d& eye : eyes) {
       const synthetic::RenderedView view = renderOrDie(*scene_, synthetic::lookAt(eye, target));
       auto stats = volume::integrate(*map_, view.depth, cv::Mat(), view.intrinsics, view.camera_to_world);
@@ -53,9 +53,8 @@ TEST_F(VolumeTracking, RecoversKnownRigidOffsetsToMillimetres) {
   SdfTracker tracker;
   for (const RigidOffset& offset : offsetsToRecover()) {
     const Pose guess = applyOffset(offset, referencePose());
-    SCOPED_TRACE(::testing::Message() << "offset " << offset.angle_deg << " deg about "
-                                      << offset.axis.transpose() << ", " << offset.translation_m.transpose()
-                                      << " m");
+    SCOPED_TRACE(::testing::Message() << "offset " << offset.angle_deg << " deg about " << offset.axis.transpose()
+                                      << ", " << offset.translation_m.transpose() << " m");
     Result<Alignment> aligned = tracker.align(truth_->depth, truth_->intrinsics, field, guess);
     ASSERT_TRUE(aligned.ok()) << aligned.error();
     const Alignment& a = aligned.value();
@@ -71,8 +70,8 @@ TEST_F(VolumeTracking, RecoversKnownRigidOffsetsToMillimetres) {
 TEST_F(VolumeTracking, ADepthImageFromElsewhereIsNotAccepted) {
   // The camera thinks it is at the reference pose but the image shows the room from the opposite
   // corner: the alignment must not report success.
-  const synthetic::RenderedView other = renderOrDie(
-      *scene_, synthetic::lookAt(Eigen::Vector3d(-1.8, 1.5, 1.2), Eigen::Vector3d(1.0, -1.0, 0.5)));
+  const synthetic::RenderedView other =
+      renderOrDie(*scene_, synthetic::lookAt(Eigen::Vector3d(-1.8, 1.5, 1.2), Eigen::Vector3d(1.0, -1.0, 0.5)));
   const VolumeField field(*map_);
   SdfTracker tracker;
   Result<Alignment> aligned = tracker.align(other.depth, other.intrinsics, field, referencePose());

@@ -46,8 +46,8 @@ TEST(Se3, SmallAngleSeriesAgreesWithClosedForm) {
 
 TEST(Se3, RotationAngleIsAccurateNearZeroAndPi) {
   EXPECT_NEAR(rotationAngle(Eigen::AngleAxisd(1e-7, Eigen::Vector3d::UnitX()).toRotationMatrix()), 1e-7, 1e-12);
-  EXPECT_NEAR(rotationAngle(Eigen::AngleAxisd(kPi - 1e-4, Eigen::Vector3d::UnitY()).toRotationMatrix()),
-              kPi - 1e-4, 1e-9);
+  EXPECT_NEAR(rotationAngle(Eigen::AngleAxisd(kPi - 1e-4, Eigen::Vector3d::UnitY()).toRotationMatrix()), kPi - 1e-4,
+              1e-9);
 }
 
 }  // namespace

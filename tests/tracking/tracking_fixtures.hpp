@@ -3,8 +3,8 @@
 // and rigid offsets of the size the tracker must recover (rotation <= 10 deg, translation <= 10 cm).
 #include <vector>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include "semfuse/core/types.hpp"
 #include "semfuse/synthetic/room.hpp"

@@ -21,7 +21,8 @@ double zeroCrossingOffset(VolumeSampler& sampler, const Eigen::Vector3d& point, 
                           double voxel) {
   double lo = -2 * voxel, hi = 2 * voxel;
   float f_lo = 0, f_hi = 0;
-  if (!sampler.tsdf(Eigen::Vector3d(point + lo * normal), f_lo) || !sampler.tsdf(Eigen::Vector3d(point + hi * normal), f_hi))
+  if (!sampler.tsdf(Eigen::Vector3d(point + lo * normal), f_lo) ||
+      !sampler.tsdf(Eigen::Vector3d(point + hi * normal), f_hi))
     return std::numeric_limits<double>::quiet_NaN();
   if (!(f_lo < 0 && f_hi > 0)) return std::numeric_limits<double>::quiet_NaN();
   for (int i = 0; i < 40; ++i) {
@@ -186,11 +187,15 @@ TEST(IntegrateGeometry, RefusesBadInputWithAPreciseMessage) {
   mirrored.linear()(0, 0) = -1;
   expectError(integrate(volume, depth, cv::Mat(), k, mirrored), "not a proper rotation");
   const cv::Mat labels(k.height, k.width, CV_16UC1, cv::Scalar(1));
-  expectError(integrate(volume, depth, cv::Mat(), cv::Mat(200, 200, CV_16UC1), cv::Mat(), k, pose), "larger than the depth");
-  expectError(integrate(volume, depth, cv::Mat(), cv::Mat(k.height, k.width, CV_8UC1), cv::Mat(), k, pose), "labels: expected CV_16UC1");
+  expectError(integrate(volume, depth, cv::Mat(), cv::Mat(200, 200, CV_16UC1), cv::Mat(), k, pose),
+              "larger than the depth");
+  expectError(integrate(volume, depth, cv::Mat(), cv::Mat(k.height, k.width, CV_8UC1), cv::Mat(), k, pose),
+              "labels: expected CV_16UC1");
   expectError(integrate(volume, depth, cv::Mat(), labels, cv::Mat(5, 5, CV_32FC1), k, pose), "confidence: size");
-  expectError(integrate(volume, depth, cv::Mat(), labels, cv::Mat(k.height, k.width, CV_8UC1), k, pose), "confidence: expected CV_32FC1");
-  expectError(integrate(volume, depth, cv::Mat(), cv::Mat(), cv::Mat(k.height, k.width, CV_32FC1), k, pose), "without labels");
+  expectError(integrate(volume, depth, cv::Mat(), labels, cv::Mat(k.height, k.width, CV_8UC1), k, pose),
+              "confidence: expected CV_32FC1");
+  expectError(integrate(volume, depth, cv::Mat(), cv::Mat(), cv::Mat(k.height, k.width, CV_32FC1), k, pose),
+              "without labels");
   expectError(integrateLabels(volume, depth, cv::Mat(), cv::Mat(), k, pose), "labels: image is empty");
   Frame frame;
   frame.depth = depth;
@@ -215,9 +220,10 @@ TEST(VolumeMemory, GeometryAndLabelsTakeEightBytesPerVoxelPlusTreeOverhead) {
   const double leaf_per_voxel = static_cast<double>(leaf_bytes) / volume.allocatedVoxels();
   const double total_per_voxel = static_cast<double>(volume.geometryMemoryBytes()) / volume.allocatedVoxels();
   ::testing::Test::RecordProperty("leaf_bytes_per_allocated_voxel", std::to_string(leaf_per_voxel));
-  std::printf("geometry+label layer: %.3f bytes per allocated voxel in leaves, %.3f with the internal nodes of "
-              "this small map (%zu leaves, %zu observed voxels)\n",
-              leaf_per_voxel, total_per_voxel, volume.allocatedLeaves(), volume.observedVoxels());
+  std::printf(
+      "geometry+label layer: %.3f bytes per allocated voxel in leaves, %.3f with the internal nodes of "
+      "this small map (%zu leaves, %zu observed voxels)\n",
+      leaf_per_voxel, total_per_voxel, volume.allocatedLeaves(), volume.observedVoxels());
   EXPECT_EQ(leaf_payload, 8.0);
   // 8 bytes of payload plus the leaf's active mask (1 bit) and header: under 3% overhead. The
   // internal nodes are a fixed cost per 4096 leaves, large here, small in a real map (bench).

@@ -81,10 +81,13 @@ std::vector<TestFrame> makeSequence(int frames, unsigned seed, cv::Size labels_s
     for (int v = 0; v < f.labels.rows; ++v)
       for (int u = 0; u < f.labels.cols; ++u) {
         const float r = unit(rng);
-        f.labels.at<uint16_t>(v, u) = r < 0.1f ? 7 : r < 0.15f ? 0 : static_cast<uint16_t>(1 + (u / 10 + v / 15 + i % 3) % 5);
+        f.labels.at<uint16_t>(v, u) = r < 0.1f    ? 7
+                                      : r < 0.15f ? 0
+                                                  : static_cast<uint16_t>(1 + (u / 10 + v / 15 + i % 3) % 5);
         const float c = unit(rng);
-        f.confidence.at<float>(v, u) =
-            c < 0.05f ? 0.0f : c < 0.08f ? std::numeric_limits<float>::quiet_NaN() : 0.3f + 0.7f * unit(rng);
+        f.confidence.at<float>(v, u) = c < 0.05f   ? 0.0f
+                                       : c < 0.08f ? std::numeric_limits<float>::quiet_NaN()
+                                                   : 0.3f + 0.7f * unit(rng);
       }
     sequence.push_back(f);
   }
@@ -99,7 +102,7 @@ struct KernelRun {
 };
 
 KernelRun integrateWith(IntegrationKernel kernel, const VolumeParams& params, const std::vector<TestFrame>& frames,
-                  Inputs inputs) {
+                        Inputs inputs) {
   EXPECT_TRUE(setIntegrationKernel(kernel));
   KernelRun run{LabeledVolume(params), {}};
   const PinholeIntrinsics k = smallCamera();
@@ -132,8 +135,8 @@ void expectSameGrid(const Grid* a, const Grid* b, const char* what) {
     EXPECT_EQ(leaf->getValueMask(), other->getValueMask()) << what << ": active mask of leaf " << leaf->origin();
     for (openvdb::Index i = 0; i < leaf->SIZE; ++i)
       if (leaf->getValue(i) != other->getValue(i) && ++differing <= 5)
-        ADD_FAILURE() << what << ": voxel " << leaf->offsetToGlobalCoord(i) << " " << leaf->getValue(i)
-                      << " vs " << other->getValue(i);
+        ADD_FAILURE() << what << ": voxel " << leaf->offsetToGlobalCoord(i) << " " << leaf->getValue(i) << " vs "
+                      << other->getValue(i);
   }
   EXPECT_EQ(differing, 0u) << what;
 }
@@ -153,8 +156,8 @@ void expectSameRuns(const KernelRun& scalar, const KernelRun& wide) {
 struct Variant {
   Inputs inputs;
   LabelRule rule;
-  cv::Size labels_size;     // the depth is 160x120
-  bool background_label;    // label 7 is background (else only 0 is ignored)
+  cv::Size labels_size;   // the depth is 160x120
+  bool background_label;  // label 7 is background (else only 0 is ignored)
 };
 
 class KernelsAgree : public ::testing::TestWithParam<Variant> {};

@@ -57,10 +57,10 @@ TEST(LabelRules, MemoryPerVoxelIsEightBytesForEvidenceAndSixteenForTopFive) {
 }
 
 TEST(LabelRules, RunnerUpStepDividesOneObservationWhileSixtyThreeStepsReachTheClamp) {
-  EXPECT_EQ(runnerUpQuantaPerUnit(16.0f), 3.0f);   // 63 steps of 1/3 = 21 >= 16
+  EXPECT_EQ(runnerUpQuantaPerUnit(16.0f), 3.0f);  // 63 steps of 1/3 = 21 >= 16
   EXPECT_EQ(runnerUpQuantaPerUnit(4.0f), 15.0f);
   EXPECT_EQ(runnerUpQuantaPerUnit(63.0f), 1.0f);
-  EXPECT_EQ(runnerUpQuantaPerUnit(64.0f), 0.5f);   // one step = 2 observations
+  EXPECT_EQ(runnerUpQuantaPerUnit(64.0f), 0.5f);  // one step = 2 observations
   EXPECT_EQ(runnerUpQuantaPerUnit(2048.0f), 1.0f / 33.0f);
 }
 
@@ -253,9 +253,9 @@ TEST_F(LabelRuleInVolume, MajorityKeepsRunnersUpInTheSidecarAndTheWinnerInTheVox
   fuse(volume, 7, 0.1f, /*late=*/true);  // a late segmentation reaches the same sidecar
   EXPECT_EQ(volume.voxel(wall).label, 7);
   EXPECT_EQ(volume.voxel(wall).score, 2.0f);
-  const auto c = unpackCandidates(volume.voxel(wall).label, volume.voxel(wall).score,
-                                  volume.labelSidecarGrid()->tree().getValue(wall),
-                                  runnerUpQuantaPerUnit(params.max_label_score));
+  const auto c =
+      unpackCandidates(volume.voxel(wall).label, volume.voxel(wall).score,
+                       volume.labelSidecarGrid()->tree().getValue(wall), runnerUpQuantaPerUnit(params.max_label_score));
   EXPECT_EQ(c.label[1], 5);
   EXPECT_EQ(c.score[1], 1.0f);
   EXPECT_EQ(volume.labelSidecarGrid()->tree().leafCount(), volume.geometryGrid().tree().leafCount());

@@ -50,7 +50,9 @@ class MapFile : public ::testing::Test {
     return volume;
   }
 
-  static LabelLegend legend() { return {"test", {{0, "unlabeled", {0, 0, 0}}, {4, "chair", {200, 10, 10}}, {9, "dining table", {1, 2, 3}}}, {3}}; }
+  static LabelLegend legend() {
+    return {"test", {{0, "unlabeled", {0, 0, 0}}, {4, "chair", {200, 10, 10}}, {9, "dining table", {1, 2, 3}}}, {3}};
+  }
 
   fs::path folder_;
 };
@@ -62,7 +64,8 @@ void expectSameLeaves(const TreeT& a, const TreeT& b) {
   for (auto leaf = a.cbeginLeaf(); leaf; ++leaf) {
     const auto* other = b.probeConstLeaf(leaf->origin());
     ASSERT_NE(other, nullptr);
-    EXPECT_EQ(std::memcmp(leaf->buffer().data(), other->buffer().data(), sizeof(typename TreeT::ValueType) * leaf->SIZE), 0)
+    EXPECT_EQ(
+        std::memcmp(leaf->buffer().data(), other->buffer().data(), sizeof(typename TreeT::ValueType) * leaf->SIZE), 0)
         << "leaf " << leaf->origin();
   }
 }
@@ -192,9 +195,9 @@ TEST_F(DamagedMapFile, TrailerSealsLengthAndCrcOfTheOpenVdbBytes) {
 }
 
 TEST_F(DamagedMapFile, TruncationAtAnyPointIsRefusedBeforeOpenVdbReadsIt) {
-  for (std::size_t keep : {std::size_t{0}, std::size_t{1}, std::size_t{31}, std::size_t{32}, std::size_t{100},
-                           payloadSize() / 3, payloadSize() / 2, payloadSize() - 1, payloadSize(), payloadSize() + 8,
-                           bytes_.size() - 1}) {
+  for (std::size_t keep :
+       {std::size_t{0}, std::size_t{1}, std::size_t{31}, std::size_t{32}, std::size_t{100}, payloadSize() / 3,
+        payloadSize() / 2, payloadSize() - 1, payloadSize(), payloadSize() + 8, bytes_.size() - 1}) {
     const std::string error = loadError(bytes_.substr(0, keep));
     ASSERT_NE(error, "") << "kept " << keep << " bytes";
     EXPECT_NE(error.find("damaged.vdb"), std::string::npos) << error;
@@ -215,12 +218,12 @@ TEST_F(DamagedMapFile, AFlippedByteAnywhereIsRefused) {
     const std::string error = loadError(corrupt);
     ASSERT_NE(error, "") << "flipped byte " << at;
     // The seal names what is wrong; OpenVDB never parsed the bytes ("not a readable OpenVDB file").
-    const char* expected = at < payloadSize()           ? "CRC-64 of the map data is"
-                           : at < payloadSize() + 8     ? "no integrity trailer"
-                           : at < payloadSize() + 12    ? "integrity trailer version"
-                           : at < payloadSize() + 16    ? "the integrity trailer is corrupt"
-                           : at < payloadSize() + 24    ? "bytes were lost or added"
-                                                        : "CRC-64 of the map data is";
+    const char* expected = at < payloadSize()        ? "CRC-64 of the map data is"
+                           : at < payloadSize() + 8  ? "no integrity trailer"
+                           : at < payloadSize() + 12 ? "integrity trailer version"
+                           : at < payloadSize() + 16 ? "the integrity trailer is corrupt"
+                           : at < payloadSize() + 24 ? "bytes were lost or added"
+                                                     : "CRC-64 of the map data is";
     EXPECT_NE(error.find(expected), std::string::npos) << "flipped byte " << at << ": " << error;
   }
 }
@@ -230,8 +233,8 @@ TEST_F(DamagedMapFile, AppendedBytesAreRefused) {
   EXPECT_NE(error.find("no integrity trailer"), std::string::npos) << error;
   // A second sealed copy appended keeps a valid-looking trailer at the end; its length does not match.
   const std::string doubled = loadError(bytes_ + bytes_);
-  EXPECT_NE(doubled.find("holds " + std::to_string(2 * bytes_.size() - kTrailer) + " bytes of map data but its trailer records " +
-                         std::to_string(payloadSize())),
+  EXPECT_NE(doubled.find("holds " + std::to_string(2 * bytes_.size() - kTrailer) +
+                         " bytes of map data but its trailer records " + std::to_string(payloadSize())),
             std::string::npos)
       << doubled;
 }
@@ -263,7 +266,8 @@ TEST_F(DamagedMapFile, AResealedMapWithAnotherFormatVersionIsRefusedByTheMetadat
   const std::size_t name_at = bytes_.find(key);
   ASSERT_NE(name_at, std::string::npos);
   ASSERT_EQ(bytes_.substr(name_at + key.size() + 4, 5), "int32");
-  ASSERT_EQ(littleEndianAt(bytes_, formatVersionOffset(bytes_)) & 0xFFFFFFFFu, static_cast<uint64_t>(kMapFormatVersion));
+  ASSERT_EQ(littleEndianAt(bytes_, formatVersionOffset(bytes_)) & 0xFFFFFFFFu,
+            static_cast<uint64_t>(kMapFormatVersion));
   const std::string error = loadError(withFormatVersion(bytes_, 99));
   EXPECT_NE(error.find("map format version 99 is not supported"), std::string::npos) << error;
 }
@@ -280,7 +284,8 @@ TEST_F(DamagedMapFile, VersionTwoLoadsWithTheEvidenceRuleAndIsRefusedWithATopFiv
   const cv::Mat labels(k.height, k.width, CV_16UC1, cv::Scalar(4));
   const cv::Mat confidence(k.height, k.width, CV_32FC1, cv::Scalar(0.6));
   const cv::Mat color(k.height, k.width, CV_8UC3, cv::Scalar(10, 120, 230));
-  ASSERT_TRUE(integrate(bayes, testing::renderPlane(k, pose, {0, 0, -1}, -1.0), color, labels, confidence, k, pose).ok());
+  ASSERT_TRUE(
+      integrate(bayes, testing::renderPlane(k, pose, {0, 0, -1}, -1.0), color, labels, confidence, k, pose).ok());
   const fs::path path = folder_ / "bayes.vdb";
   ASSERT_TRUE(saveMap(bayes, legend(), path).ok());
   std::ifstream in(path, std::ios::binary);

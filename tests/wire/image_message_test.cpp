@@ -15,7 +15,8 @@ TEST(ImageMessage, CopiesPackedRowsOfAnyImage) {
   // A view into a larger image: its rows are not contiguous, the message's must be.
   cv::Mat big(6, 8, CV_32FC3);
   for (int v = 0; v < big.rows; ++v)
-    for (int u = 0; u < big.cols; ++u) big.at<cv::Vec3f>(v, u) = cv::Vec3f(static_cast<float>(u), static_cast<float>(v), 1.0f);
+    for (int u = 0; u < big.cols; ++u)
+      big.at<cv::Vec3f>(v, u) = cv::Vec3f(static_cast<float>(u), static_cast<float>(v), 1.0f);
   const cv::Mat view = big(cv::Rect(2, 1, 4, 3));
   ASSERT_FALSE(view.isContinuous());
   dds::Sample<sensor_msgs_msg_dds__Image_> msg;

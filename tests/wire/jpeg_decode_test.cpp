@@ -14,15 +14,16 @@ cv::Mat texturedBgr(int width, int height) {
   cv::Mat bgr(height, width, CV_8UC3);
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x)
-      bgr.at<cv::Vec3b>(y, x) = cv::Vec3b(static_cast<uint8_t>((x * 7 + y * 3) & 0xFF),
-                                          static_cast<uint8_t>(((x / 5) % 2) * 200 + y % 50),
-                                          static_cast<uint8_t>((x * y) % 251));
+      bgr.at<cv::Vec3b>(y, x) =
+          cv::Vec3b(static_cast<uint8_t>((x * 7 + y * 3) & 0xFF), static_cast<uint8_t>(((x / 5) % 2) * 200 + y % 50),
+                    static_cast<uint8_t>((x * y) % 251));
   return bgr;
 }
 
 std::vector<uint8_t> encodeJpeg(const cv::Mat& image, bool progressive = false) {
   std::vector<uint8_t> bytes;
-  EXPECT_TRUE(cv::imencode(".jpg", image, bytes, {cv::IMWRITE_JPEG_QUALITY, 90, cv::IMWRITE_JPEG_PROGRESSIVE, progressive}));
+  EXPECT_TRUE(
+      cv::imencode(".jpg", image, bytes, {cv::IMWRITE_JPEG_QUALITY, 90, cv::IMWRITE_JPEG_PROGRESSIVE, progressive}));
   return bytes;
 }
 
@@ -150,7 +151,8 @@ TEST(JpegDecode, TooManyScansAreRefused) {
   ASSERT_GT(scan_end, scan);
   std::vector<uint8_t> repeated(bytes.begin(), bytes.begin() + static_cast<long>(scan_end));
   for (int copy = 0; copy < kMaxJpegScans + 20; ++copy)
-    repeated.insert(repeated.end(), bytes.begin() + static_cast<long>(scan), bytes.begin() + static_cast<long>(scan_end));
+    repeated.insert(repeated.end(), bytes.begin() + static_cast<long>(scan),
+                    bytes.begin() + static_cast<long>(scan_end));
   repeated.insert(repeated.end(), bytes.begin() + static_cast<long>(scan_end), bytes.end());
   auto decoded = decodeJpegRgb(repeated.data(), repeated.size(), {32, 32});
   ASSERT_FALSE(decoded.ok());

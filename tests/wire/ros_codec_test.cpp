@@ -83,7 +83,8 @@ TEST(RosCompressedImage, PngAndJpeg) {
   std::vector<uint8_t> garbage(50, 1);
   msg.format = const_cast<char*>("jpeg");
   msg.data = {50, 50, garbage.data(), false};
-  EXPECT_EQ(compressedImageToMat(msg).error(), "compressed image: JPEG payload does not decode: not a JPEG (no SOI marker)");
+  EXPECT_EQ(compressedImageToMat(msg).error(),
+            "compressed image: JPEG payload does not decode: not a JPEG (no SOI marker)");
   msg.format = const_cast<char*>("tiff");
   EXPECT_EQ(compressedImageToMat(msg).error(), "compressed image: unknown format 'tiff' (known: jpeg, png)");
 }

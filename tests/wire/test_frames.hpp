@@ -21,7 +21,8 @@ inline Frame makeFrame(int width = 64, int height = 48, bool with_color = true) 
     for (int x = 0; x < width; ++x) {
       // Whole millimetres, so the 16-bit encodings are exact.
       frame.depth.at<float>(y, x) = ((x + y) % 11 == 0) ? 0.0f : static_cast<float>(500 + 7 * x + 13 * y) * 0.001f;
-      if (with_color) frame.color.at<cv::Vec3b>(y, x) = cv::Vec3b(static_cast<uint8_t>(4 * x), static_cast<uint8_t>(5 * y), 200);
+      if (with_color)
+        frame.color.at<cv::Vec3b>(y, x) = cv::Vec3b(static_cast<uint8_t>(4 * x), static_cast<uint8_t>(5 * y), 200);
     }
   }
   Pose pose = Pose::Identity();

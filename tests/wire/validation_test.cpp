@@ -16,7 +16,8 @@ TEST(Validation, PoseReflectionIsRejected) {
 
 TEST(Validation, SegmentationLargerThanFrame) {
   EXPECT_TRUE(validateSegmentationSize(320, 240, 640, 480).ok());
-  EXPECT_EQ(validateSegmentationSize(641, 480, 640, 480).error(), "segmentation: 641x480 is larger than its frame 640x480");
+  EXPECT_EQ(validateSegmentationSize(641, 480, 640, 480).error(),
+            "segmentation: 641x480 is larger than its frame 640x480");
 }
 
 TEST(Validation, ConfidenceNaNIsOutOfRange) {
@@ -39,8 +40,8 @@ TEST(Validation, LabelsOutsideTheLegendReportFirstIdAndCount) {
 }
 
 TEST(Validation, PngDeclaredSizeReadsTheHeader) {
-  std::vector<uint8_t> header = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n', 0, 0, 0, 13, 'I', 'H', 'D', 'R',
-                                 0, 0, 0x02, 0x80, 0, 0, 0x01, 0xE0};
+  std::vector<uint8_t> header = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n', 0, 0, 0,    13,
+                                 'I',  'H', 'D', 'R', 0,    0,    0x02, 0x80, 0, 0, 0x01, 0xE0};
   auto size = pngDeclaredSize(header.data(), header.size());
   ASSERT_TRUE(size.ok()) << size.error();
   EXPECT_EQ(size.value(), cv::Size(640, 480));
@@ -59,8 +60,8 @@ TEST(Validation, PngChunksCompleteFindsEveryCut) {
     ASSERT_FALSE(status.ok()) << "cut at " << cut;
     EXPECT_EQ(status.error().rfind("truncated: ", 0), 0u) << status.error();
   }
-  EXPECT_EQ(pngChunksComplete(png.data(), png.size() - 12).error(), "truncated: no IEND chunk in " +
-                                                                      std::to_string(png.size() - 12) + " bytes");
+  EXPECT_EQ(pngChunksComplete(png.data(), png.size() - 12).error(),
+            "truncated: no IEND chunk in " + std::to_string(png.size() - 12) + " bytes");
   // Bytes after IEND are ignored, as decoders do.
   std::vector<uint8_t> trailing(png);
   trailing.insert(trailing.end(), {1, 2, 3});
@@ -68,9 +69,9 @@ TEST(Validation, PngChunksCompleteFindsEveryCut) {
   // A chunk that declares more than the file holds: IHDR says 2^31 bytes.
   std::vector<uint8_t> lying(png);
   lying[8] = 0x80;
-  EXPECT_EQ(pngChunksComplete(lying.data(), lying.size()).error(),
-            "truncated: chunk 'IHDR' at byte 8 declares 2147483661 bytes, " + std::to_string(png.size() - 20) +
-                " left");
+  EXPECT_EQ(
+      pngChunksComplete(lying.data(), lying.size()).error(),
+      "truncated: chunk 'IHDR' at byte 8 declares 2147483661 bytes, " + std::to_string(png.size() - 20) + " left");
   EXPECT_FALSE(pngChunksComplete(png.data(), 7).ok());
 }
 

@@ -46,8 +46,7 @@ class SyntheticSource : public FrameSource {
 
 }  // namespace
 
-Result<std::unique_ptr<FrameSource>> openFrameSource(const std::string& spec,
-                                                     const SyntheticSourceOptions& synthetic) {
+Result<std::unique_ptr<FrameSource>> openFrameSource(const std::string& spec, const SyntheticSourceOptions& synthetic) {
   if (spec == "synthetic") {
     if (synthetic.frames < 1) return makeError("--frames must be at least 1");
     synthetic::SequenceConfig config;

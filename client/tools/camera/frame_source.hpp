@@ -27,7 +27,6 @@ struct SyntheticSourceOptions {
 };
 
 // spec: "7scenes:DIR", "tum:DIR" or "synthetic". Fails with a message naming the problem.
-Result<std::unique_ptr<FrameSource>> openFrameSource(const std::string& spec,
-                                                     const SyntheticSourceOptions& synthetic);
+Result<std::unique_ptr<FrameSource>> openFrameSource(const std::string& spec, const SyntheticSourceOptions& synthetic);
 
 }  // namespace semfuse::tools

@@ -6,8 +6,8 @@
 #include <string>
 #include <thread>
 
-#include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
 
 #include "cli_parse.hpp"
 #include "exit_codes.hpp"
@@ -56,26 +56,33 @@ void addOptions(CLI::App& app, Options& o) {
       "SOURCE");
   app.add_option("--source", o.source, "7scenes:DIR, tum:DIR or synthetic")->required()->check(source_form);
   app.add_option("--rate", o.rate_hz, "frames per second; 0 = as fast as the server acknowledges")
-      ->check(CLI::NonNegativeNumber)->capture_default_str();
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_option("--first", o.first, "index of the first frame")->capture_default_str();
   app.add_option("--last", o.last, "index of the last frame (default: the last one)");
   app.add_option("--stride", o.stride, "send every Nth frame")->check(CLI::PositiveNumber)->capture_default_str();
   app.add_flag("--no-poses", o.no_poses, "send frames without their poses (the server tracks them)");
   app.add_option("--depth-encoding", o.depth_encoding, "raw (16-bit mm), float (32-bit m) or png")
-      ->check(CLI::IsMember({"raw", "float", "png"}))->capture_default_str();
+      ->check(CLI::IsMember({"raw", "float", "png"}))
+      ->capture_default_str();
   app.add_option("--color-encoding", o.color_encoding, "none, raw, jpeg or png")
-      ->check(CLI::IsMember({"none", "raw", "jpeg", "png"}))->capture_default_str();
+      ->check(CLI::IsMember({"none", "raw", "jpeg", "png"}))
+      ->capture_default_str();
   app.add_option("--jpeg-quality", o.jpeg_quality, "JPEG quality")->check(CLI::Range(1, 100))->capture_default_str();
   app.add_option("--camera-id", o.camera_id, "camera id on the wire (default: the source's: 7scenes, tum, synthetic)");
   app.add_flag("--loop", o.loop, "start over after the last frame until interrupted");
   app.add_option("--frames", o.synthetic.frames, "synthetic: frames in the orbit")
-      ->check(CLI::PositiveNumber)->capture_default_str();
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   app.add_option("--seed", o.synthetic.seed, "synthetic: texture and depth-noise seed")->capture_default_str();
   app.add_flag("--depth-noise", o.synthetic.depth_noise, "synthetic: Kinect-like depth noise");
-  app.add_option("--wait-server", o.wait_server_s, "seconds to wait for a server before the first frame (0 = do not wait; early frames may be lost)")
-      ->check(CLI::NonNegativeNumber)->capture_default_str();
+  app.add_option("--wait-server", o.wait_server_s,
+                 "seconds to wait for a server before the first frame (0 = do not wait; early frames may be lost)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_option("--ack-timeout", o.ack_timeout_s, "seconds to wait at the end until the server has every frame")
-      ->check(CLI::NonNegativeNumber)->capture_default_str();
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   tools::addCommonOptions(app, o.common);
 }
 
@@ -120,8 +127,10 @@ int run(const Options& o) {
   // A reliable writer keeps nothing for readers it has not discovered yet: frames written before
   // the server's reader is matched would simply be lost.
   if (o.wait_server_s > 0 && !camera.waitForServer(millis(o.wait_server_s))) {
-    spdlog::error("no semfuse server is reading rt/semfuse/frames after {} s (is semfuse-server running on "
-                  "this domain?)", o.wait_server_s);
+    spdlog::error(
+        "no semfuse server is reading rt/semfuse/frames after {} s (is semfuse-server running on "
+        "this domain?)",
+        o.wait_server_s);
     return tools::kExitTimeout;
   }
 
@@ -144,8 +153,8 @@ int run(const Options& o) {
       // Sequence numbers keep growing across passes: the server matches segmentations to frames by them.
       f.seq += pass * (last + 1);
       if (o.rate_hz > 0) {
-        std::this_thread::sleep_until(start + std::chrono::duration_cast<Clock::duration>(
-                                                  std::chrono::duration<double>(sent / o.rate_hz)));
+        std::this_thread::sleep_until(
+            start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(sent / o.rate_hz)));
       }
       if (Status s = camera.publish(f); !s) {
         spdlog::warn("frame {} not sent: {}", f.seq, s.error());

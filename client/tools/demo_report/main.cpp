@@ -9,10 +9,10 @@
 #include <fstream>
 #include <numeric>
 
+#include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
-#include <spdlog/spdlog.h>
 
 #include "exit_codes.hpp"
 #include "noise_model.hpp"
@@ -44,7 +44,9 @@ struct ViewErrors {
   double coverage = 0.0;    // fraction of ground-truth pixels the map labels
 };
 
-double mean(const std::vector<double>& v) { return v.empty() ? 0.0 : std::accumulate(v.begin(), v.end(), 0.0) / v.size(); }
+double mean(const std::vector<double>& v) {
+  return v.empty() ? 0.0 : std::accumulate(v.begin(), v.end(), 0.0) / v.size();
+}
 uint64_t total(const std::vector<semfuse::client::ReasonCount>& counts) {
   uint64_t sum = 0;
   for (const auto& c : counts) sum += c.count;
@@ -73,13 +75,16 @@ cv::Mat captioned(const cv::Mat& rgb, const std::string& caption) {
 int main(int argc, char** argv) {
   using namespace semfuse;
   Options o;
-  CLI::App app{"semfuse-demo-report: per-frame vs volumetric label error of a demo run on the synthetic room, "
-               "with a side-by-side image and a report (markdown + JSON)."};
+  CLI::App app{
+      "semfuse-demo-report: per-frame vs volumetric label error of a demo run on the synthetic room, "
+      "with a side-by-side image and a report (markdown + JSON)."};
   app.add_option("--domain-id", o.domain_id, "DDS domain id of the server (default: Cyclone's default)");
   app.add_option("--frames", o.frames, "frames in the synthetic orbit the camera replayed")->capture_default_str();
-  app.add_option("--every", o.every, "the segmenter labeled every Nth frame")->capture_default_str()
+  app.add_option("--every", o.every, "the segmenter labeled every Nth frame")
+      ->capture_default_str()
       ->check(CLI::PositiveNumber);
-  app.add_option("--noise", o.noise, "the segmenter's noise probability")->capture_default_str()
+  app.add_option("--noise", o.noise, "the segmenter's noise probability")
+      ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
   app.add_option("--noise-model", o.noise_model, "pixel or region")->capture_default_str();
   app.add_option("--seed", o.seed, "the segmenter's noise seed")->capture_default_str();
@@ -160,7 +165,8 @@ int main(int argc, char** argv) {
       cv::hconcat(std::vector<cv::Mat>{captioned(frame.color, "camera colour (frame " + std::to_string(i) + ")"),
                                        captioned(wire::colorizeLabels(t, legend), "ground truth"),
                                        captioned(wire::colorizeLabels(n, legend),
-                                                 "segmenter input (" + std::to_string(static_cast<int>(o.noise * 100)) + "% noise)"),
+                                                 "segmenter input (" + std::to_string(static_cast<int>(o.noise * 100)) +
+                                                     "% noise)"),
                                        captioned(wire::colorizeLabels(f, legend), "fused map (raycast)")},
                   row);
       cv::imwrite((std::filesystem::path(o.out) / "labels_side_by_side.png").string(), row);
@@ -181,12 +187,13 @@ int main(int argc, char** argv) {
   const std::filesystem::path md_path = std::filesystem::path(o.out) / "report.md";
   std::ofstream md(md_path);
   md << "# semfuse demo report\n\n"
-     << "Synthetic room, " << o.frames << " frames with poses; segmenter: ground truth with " << o.noise * 100
-     << "% " << o.noise_model << " noise (seed " << o.seed << "), every " << o.every << " frame(s), published late.\n\n"
+     << "Synthetic room, " << o.frames << " frames with poses; segmenter: ground truth with " << o.noise * 100 << "% "
+     << o.noise_model << " noise (seed " << o.seed << "), every " << o.every << " frame(s), published late.\n\n"
      << "| | value |\n|---|---|\n"
      << "| frames received / integrated / lost | " << s.frames_received << " / " << s.frames_integrated << " / "
      << s.frames_lost << " |\n"
-     << "| segmentations received / integrated | " << s.segmentations_received << " / " << s.segmentations_integrated << " |\n"
+     << "| segmentations received / integrated | " << s.segmentations_received << " / " << s.segmentations_integrated
+     << " |\n"
      << "| frames dropped / rejected (all reasons) | " << total(s.dropped) << " / " << total(s.rejected) << " |\n"
      << "| map | " << s.allocated_voxels << " voxels in " << s.allocated_blocks << " blocks, "
      << fmt::format("{:.1f}", s.map_bytes / (1024.0 * 1024.0)) << " MiB, voxel " << s.voxel_size << " m |\n"

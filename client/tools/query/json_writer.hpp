@@ -30,7 +30,9 @@ class JsonObject {
   static std::string toJson(bool v) { return v ? "true" : "false"; }
   static std::string toJson(double v);
   template <class T>
-  static std::string toJson(const T& v) { return std::to_string(v); }
+  static std::string toJson(const T& v) {
+    return std::to_string(v);
+  }
   void add(std::string_view key, const std::string& json) {
     if (!body_.empty()) body_ += ", ";
     body_ += jsonString(key) + ": " + json;

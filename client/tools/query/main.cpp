@@ -9,8 +9,8 @@
 #include <thread>
 #include <vector>
 
-#include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
 
 #include "cli_parse.hpp"
 #include "exit_codes.hpp"
@@ -58,9 +58,12 @@ struct Options {
 
 int exitCodeOf(Failure failure) {
   switch (failure) {
-    case Failure::kServer: return tools::kExitServerError;
-    case Failure::kTimeout: return tools::kExitTimeout;
-    default: return tools::kExitFailure;
+    case Failure::kServer:
+      return tools::kExitServerError;
+    case Failure::kTimeout:
+      return tools::kExitTimeout;
+    default:
+      return tools::kExitFailure;
   }
 }
 
@@ -73,7 +76,8 @@ int reportFailure(const client::CallResult<T>& result) {
 // --pose: 12 numbers (row-major 3x4 camera-to-world) or one pose.txt file (4x4 or 3x4).
 Result<Pose> parsePose(const std::vector<std::string>& values) {
   if (values.size() == 1) return datasets::readSevenScenesPose(values.front());
-  if (values.size() != 12) return makeError("--pose takes 12 numbers or one file, not " + std::to_string(values.size()) + " values");
+  if (values.size() != 12)
+    return makeError("--pose takes 12 numbers or one file, not " + std::to_string(values.size()) + " values");
   double numbers[12];
   for (int i = 0; i < 12; ++i) {
     try {
@@ -141,7 +145,8 @@ class Query {
   int labelsAt() {
     if (o_.points.empty() || o_.points.size() % 3 != 0) return usage("--point takes 3 numbers per point");
     std::vector<Eigen::Vector3d> points;
-    for (std::size_t i = 0; i < o_.points.size(); i += 3) points.emplace_back(o_.points[i], o_.points[i + 1], o_.points[i + 2]);
+    for (std::size_t i = 0; i < o_.points.size(); i += 3)
+      points.emplace_back(o_.points[i], o_.points[i + 1], o_.points[i + 2]);
     auto samples = map_.labelsAt(points, timeout_);
     if (!samples) return reportFailure(samples);
     std::cout << (o_.json ? tools::samplesJson(points, samples.value(), legend())
@@ -154,7 +159,8 @@ class Query {
     if (!box) return usage(box.error());
     auto summary = map_.region(box.value(), timeout_);
     if (!summary) return reportFailure(summary);
-    std::cout << (o_.json ? tools::regionJson(summary.value(), legend()) : tools::regionTable(summary.value(), legend()));
+    std::cout << (o_.json ? tools::regionJson(summary.value(), legend())
+                          : tools::regionTable(summary.value(), legend()));
     return tools::kExitOk;
   }
 
@@ -176,7 +182,8 @@ class Query {
     auto mesh = map_.mesh(box, timeout_);
     if (!mesh) return reportFailure(mesh);
     std::ofstream file(o_.out, std::ios::binary);
-    file.write(reinterpret_cast<const char*>(mesh.value().ply.data()), static_cast<std::streamsize>(mesh.value().ply.size()));
+    file.write(reinterpret_cast<const char*>(mesh.value().ply.data()),
+               static_cast<std::streamsize>(mesh.value().ply.size()));
     if (!file) {
       spdlog::error("cannot write {}", o_.out);
       return tools::kExitFailure;
@@ -204,10 +211,9 @@ class Query {
   }
 
   int admin(const std::string& command) {
-    client::CallResult<client::ServerStatus> result =
-        command == "save"   ? map_.save(o_.path, timeout_)
-        : command == "load" ? map_.load(o_.path, timeout_)
-                            : map_.reset(timeout_);
+    client::CallResult<client::ServerStatus> result = command == "save"   ? map_.save(o_.path, timeout_)
+                                                      : command == "load" ? map_.load(o_.path, timeout_)
+                                                                          : map_.reset(timeout_);
     if (!result) return reportFailure(result);
     spdlog::info("{}: done", command);
     if (o_.json) std::cout << tools::statusJson(result.value()) << "\n";
@@ -254,25 +260,33 @@ int main(int argc, char** argv) {
   Options o;
   tools::addCommonOptions(app, o.common);
   app.add_option("--timeout", o.timeout_s, "seconds to wait for the server's reply")
-      ->check(CLI::PositiveNumber)->capture_default_str();
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   app.add_option("--legend", o.legend, "legend for names and colours when the server publishes none");
 
   auto* raycast = app.add_subcommand("raycast", "render the map from a camera pose into --out DIR");
   raycast->add_option("--pose", o.pose, "camera-to-world: 12 numbers (row-major 3x4) or a pose.txt file")
-      ->required()->expected(1, 12);
+      ->required()
+      ->expected(1, 12);
   raycast->add_option("--intrinsics", o.intrinsics_file, "a 7-Scenes camera-intrinsics.txt (3x3 K)");
   raycast->add_option("--width", o.intrinsics.width, "image width")->check(CLI::PositiveNumber)->capture_default_str();
-  raycast->add_option("--height", o.intrinsics.height, "image height")->check(CLI::PositiveNumber)->capture_default_str();
+  raycast->add_option("--height", o.intrinsics.height, "image height")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   raycast->add_option("--fx", o.intrinsics.fx, "focal length x, pixels")->capture_default_str();
   raycast->add_option("--fy", o.intrinsics.fy, "focal length y, pixels")->capture_default_str();
   raycast->add_option("--cx", o.intrinsics.cx, "principal point x")->capture_default_str();
   raycast->add_option("--cy", o.intrinsics.cy, "principal point y")->capture_default_str();
-  raycast->add_option("--layers", o.layers, "depth normals labels confidence color")->delimiter(',')->capture_default_str();
+  raycast->add_option("--layers", o.layers, "depth normals labels confidence color")
+      ->delimiter(',')
+      ->capture_default_str();
   raycast->add_option("--max-range", o.max_range, "metres (0 = server default)");
   raycast->add_option("--out", o.out, "output folder")->required();
 
   auto* labels_at = app.add_subcommand("labels-at", "label, confidence, tsdf and weight at points");
-  labels_at->add_option("--point", o.points, "X Y Z (repeat for more points)")->required()->expected(3)
+  labels_at->add_option("--point", o.points, "X Y Z (repeat for more points)")
+      ->required()
+      ->expected(3)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   labels_at->add_flag("--json", o.json, "print JSON");
 
@@ -282,7 +296,9 @@ int main(int argc, char** argv) {
   region->add_flag("--json", o.json, "print JSON");
 
   auto* objects = app.add_subcommand("objects", "object instances (connected labeled surfaces)");
-  objects->add_option("--label", o.label, "only this label id (0 = all)")->check(CLI::Range(0, 65535))->capture_default_str();
+  objects->add_option("--label", o.label, "only this label id (0 = all)")
+      ->check(CLI::Range(0, 65535))
+      ->capture_default_str();
   objects->add_option("--min-voxels", o.min_voxels, "smallest instance")->capture_default_str();
   objects->add_flag("--json", o.json, "print JSON");
 
@@ -295,7 +311,8 @@ int main(int argc, char** argv) {
   status->add_flag("--json", o.json, "print JSON");
   status->add_flag("--watch", o.watch, "keep printing until Ctrl-C");
   status->add_option("--interval", o.interval_s, "seconds between prints with --watch")
-      ->check(CLI::PositiveNumber)->capture_default_str();
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
 
   auto* save = app.add_subcommand("save", "save the map (default: the server's map file)");
   save->add_option("path", o.path, "file on the server's machine");

@@ -19,7 +19,8 @@ std::string counterLines(const char* title, const std::vector<client::ReasonCoun
 std::string countersJson(const std::vector<client::ReasonCount>& counters) {
   std::vector<std::string> items;
   for (const auto& c : counters) {
-    items.push_back(JsonObject().field("reason", c.reason).field("camera_id", c.camera_id).field("count", c.count).str());
+    items.push_back(
+        JsonObject().field("reason", c.reason).field("camera_id", c.camera_id).field("count", c.count).str());
   }
   return jsonArray(items);
 }
@@ -51,10 +52,11 @@ std::string statusTable(const client::ServerStatus& s) {
   out += counterLines("dropped", s.dropped);
   out += counterLines("rejected", s.rejected);
   for (const auto& c : s.cameras) {
-    out += fmt::format("  camera {:<12} {:<8} last seq {:>6}  received {:>6}  integrated {:>6}  lost {:>4}  "
-                       "{:.1f} Hz{}\n",
-                       c.camera_id, client::trackingStateName(c.tracking_state), c.last_seq, c.frames_received,
-                       c.frames_integrated, c.frames_lost, c.frame_rate_hz, c.stale ? "  (stale)" : "");
+    out += fmt::format(
+        "  camera {:<12} {:<8} last seq {:>6}  received {:>6}  integrated {:>6}  lost {:>4}  "
+        "{:.1f} Hz{}\n",
+        c.camera_id, client::trackingStateName(c.tracking_state), c.last_seq, c.frames_received, c.frames_integrated,
+        c.frames_lost, c.frame_rate_hz, c.stale ? "  (stale)" : "");
   }
   for (const auto& e : s.last_errors) out += fmt::format("  error  [{}] {}\n", e.source, e.message);
   return out;
@@ -77,7 +79,8 @@ std::string statusJson(const client::ServerStatus& s) {
   }
   std::vector<std::string> errors;
   for (const auto& e : s.last_errors) {
-    errors.push_back(JsonObject().field("stamp", e.stamp_s).field("source", e.source).field("message", e.message).str());
+    errors.push_back(
+        JsonObject().field("stamp", e.stamp_s).field("source", e.source).field("message", e.message).str());
   }
   return JsonObject()
       .field("server_id", s.server_id)
@@ -168,8 +171,8 @@ std::string regionJson(const client::RegionSummary& r, const LabelLegend& legend
 
 std::string samplesTable(const std::vector<Eigen::Vector3d>& points, const std::vector<client::VoxelSample>& samples,
                          const LabelLegend& legend) {
-  std::string out = fmt::format("{:<26} {:<9} {:<18} {:>6} {:>8} {:>7}\n", "point", "observed", "label", "conf",
-                                "tsdf", "weight");
+  std::string out =
+      fmt::format("{:<26} {:<9} {:<18} {:>6} {:>8} {:>7}\n", "point", "observed", "label", "conf", "tsdf", "weight");
   for (std::size_t i = 0; i < samples.size() && i < points.size(); ++i) {
     const auto& s = samples[i];
     out += fmt::format("{:<26} {:<9} {:<18} {:>6.3f} {:>8.4f} {:>7.1f}\n", vec(points[i]), s.observed ? "yes" : "no",

@@ -15,14 +15,14 @@ struct BackendOptions {
   std::string backend = "gt";  // gt | dnn | noise
   std::string base = "gt";     // noise: the backend it corrupts (gt or dnn)
   // gt
-  std::string labels_dir;      // empty: the synthetic room; else label images per frame
+  std::string labels_dir;  // empty: the synthetic room; else label images per frame
   std::string labels_pattern = "frame-{:06d}.label.png";
   // noise
   std::string noise_model = "pixel";
   double noise = 0.3;
   uint64_t seed = 0;
-  std::string legend = "synthetic";   // the candidate wrong labels: this legend's non-zero ids
-  std::vector<int> noise_labels;      // explicit candidate ids instead of the legend's
+  std::string legend = "synthetic";  // the candidate wrong labels: this legend's non-zero ids
+  std::vector<int> noise_labels;     // explicit candidate ids instead of the legend's
   // dnn
   std::string model;
   std::vector<int> input_size{257, 257};

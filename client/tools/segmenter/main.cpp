@@ -3,8 +3,8 @@
 #include <chrono>
 #include <thread>
 
-#include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
 
 #include "backend_factory.hpp"
 #include "cli_parse.hpp"
@@ -32,16 +32,20 @@ struct Options {
 void addOptions(CLI::App& app, Options& o) {
   auto& b = o.backend;
   app.add_option("--backend", b.backend, "gt (ground truth), dnn (OpenCV dnn model) or noise (corrupts --base)")
-      ->check(CLI::IsMember({"gt", "dnn", "noise"}))->capture_default_str();
+      ->check(CLI::IsMember({"gt", "dnn", "noise"}))
+      ->capture_default_str();
   app.add_option("--base", b.base, "noise: the backend whose labels are corrupted")
-      ->check(CLI::IsMember({"gt", "dnn"}))->capture_default_str();
+      ->check(CLI::IsMember({"gt", "dnn"}))
+      ->capture_default_str();
   app.add_option("--labels-dir", b.labels_dir, "gt: folder of label images (default: the synthetic room's labels)");
   app.add_option("--labels-pattern", b.labels_pattern, "gt: label file name for a frame seq, fmt-style")
       ->capture_default_str();
   app.add_option("--noise-model", b.noise_model, "noise: pixel (independent pixels) or region (whole regions)")
-      ->check(CLI::IsMember({"pixel", "region"}))->capture_default_str();
+      ->check(CLI::IsMember({"pixel", "region"}))
+      ->capture_default_str();
   app.add_option("--noise", b.noise, "noise: probability p that a pixel/region gets a wrong label")
-      ->check(CLI::Range(0.0, 1.0))->capture_default_str();
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
   app.add_option("--seed", b.seed, "noise: random seed")->capture_default_str();
   app.add_option("--legend", b.legend, "noise: legend (built-in name or YAML file) whose labels are drawn")
       ->capture_default_str();
@@ -49,7 +53,8 @@ void addOptions(CLI::App& app, Options& o) {
   app.add_option("--model", b.model, "dnn: TensorFlow .pb or ONNX model file");
   app.add_option("--input-size", b.input_size, "dnn: network input WIDTH HEIGHT")->expected(2)->capture_default_str();
   app.add_option("--layout", b.layout, "dnn: tensor layout of input and logits")
-      ->check(CLI::IsMember({"nchw", "nhwc"}))->capture_default_str();
+      ->check(CLI::IsMember({"nchw", "nhwc"}))
+      ->capture_default_str();
   app.add_option("--mean", b.mean, "dnn: normalisation (x - mean) * scale")->capture_default_str();
   app.add_option("--scale", b.scale, "dnn: normalisation (x - mean) * scale")->capture_default_str();
   app.add_option("--output-name", b.output_name, "dnn: output layer (default: the last)");
@@ -57,25 +62,30 @@ void addOptions(CLI::App& app, Options& o) {
   app.add_option("--segmenter-id", o.segmenter.segmenter_id, "id published with each segmentation")
       ->capture_default_str();
   app.add_option("--camera-id", o.segmenter.camera_id, "only frames of this camera (default: all)");
-  app.add_option("--every", o.segmenter.every, "segment every Nth frame")->check(CLI::PositiveNumber)
+  app.add_option("--every", o.segmenter.every, "segment every Nth frame")
+      ->check(CLI::PositiveNumber)
       ->capture_default_str();
   app.add_option("--delay", o.delay_ms, "milliseconds to hold each result before publishing")
-      ->check(CLI::NonNegativeNumber)->capture_default_str();
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_option("--duration", o.duration_s, "stop after this many seconds (0 = until Ctrl-C)")
-      ->check(CLI::NonNegativeNumber)->capture_default_str();
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_option("--idle-exit", o.idle_exit_s,
                  "stop when no frame came for this many seconds after the first one (0 = never)")
-      ->check(CLI::NonNegativeNumber)->capture_default_str();
-  app.add_option("--report", o.report_s, "seconds between statistics lines")->check(CLI::PositiveNumber)
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app.add_option("--report", o.report_s, "seconds between statistics lines")
+      ->check(CLI::PositiveNumber)
       ->capture_default_str();
   tools::addCommonOptions(app, o.common);
 }
 
 void report(const client::SegmenterStats& s) {
-  spdlog::info("frames received {}, segmented {}, published {}, skipped {} (newer frame), not selected {}, "
-               "failed {}; {:.1f} ms per frame (last {:.1f} ms)",
-               s.received, s.segmented, s.published, s.skipped, s.not_selected, s.failed, s.meanSegmentMs(),
-               s.last_segment_ms);
+  spdlog::info(
+      "frames received {}, segmented {}, published {}, skipped {} (newer frame), not selected {}, "
+      "failed {}; {:.1f} ms per frame (last {:.1f} ms)",
+      s.received, s.segmented, s.published, s.skipped, s.not_selected, s.failed, s.meanSegmentMs(), s.last_segment_ms);
 }
 
 int run(Options& o) {
@@ -90,8 +100,8 @@ int run(Options& o) {
   client::Segmenter segmenter(participant, std::move(function).value(), o.segmenter);
   segmenter.start();
   spdlog::info("{} backend{} running as '{}', every {} frame(s), delay {} ms", o.backend.backend,
-               o.backend.backend == "noise" ? " over " + o.backend.base : std::string(),
-               o.segmenter.segmenter_id, o.segmenter.every, o.delay_ms);
+               o.backend.backend == "noise" ? " over " + o.backend.base : std::string(), o.segmenter.segmenter_id,
+               o.segmenter.every, o.delay_ms);
 
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();

@@ -59,8 +59,8 @@ void Progress::drawBar(std::size_t done) {
     const int filled = static_cast<int>(fraction * kWidth);
     const std::string bar = std::string(filled, '#') + std::string(kWidth - filled, '.');
     const double eta = rate() > 0 ? (total_ - done) / rate() : NAN;
-    std::printf("\r%s [%s] %zu/%zu  %.1f frames/s  ETA %s   ", label_.c_str(), bar.c_str(), done, total_,
-                rate(), formatDuration(eta).c_str());
+    std::printf("\r%s [%s] %zu/%zu  %.1f frames/s  ETA %s   ", label_.c_str(), bar.c_str(), done, total_, rate(),
+                formatDuration(eta).c_str());
   }
   std::fflush(stdout);
 }

@@ -3,8 +3,8 @@
 #include <istream>
 #include <sstream>
 
-#include <CLI/CLI.hpp>
 #include <yaml-cpp/yaml.h>
+#include <CLI/CLI.hpp>
 
 namespace semfuse {
 namespace {
@@ -57,9 +57,8 @@ CLI::ConfigItem makeItem(const CLI::App& root, const std::vector<std::string>& p
   }
   item.name = join(path, i, ".");
   if (findOption(*app, item.name) == nullptr) {
-    throw CLI::ConfigError("config: unknown key '" + join(path, 0, ".") + "'" + lineOf(value) +
-                           "; known keys" + (app == &root ? "" : " of '" + app->get_name() + "'") + ": " +
-                           knownKeys(*app));
+    throw CLI::ConfigError("config: unknown key '" + join(path, 0, ".") + "'" + lineOf(value) + "; known keys" +
+                           (app == &root ? "" : " of '" + app->get_name() + "'") + ": " + knownKeys(*app));
   }
   if (value.IsScalar()) {
     item.inputs.push_back(value.Scalar());
@@ -161,8 +160,7 @@ CLI::Option* addYamlConfig(CLI::App& app, const std::string& default_file, bool 
   app.config_formatter(std::make_shared<YamlConfig>(app));
   // Unknown keys are rejected in YamlConfig::from_config already; this catches anything else.
   app.allow_config_extras(CLI::config_extras_mode::error);
-  return app.set_config("--config", default_file, "YAML config file; command-line flags override its values",
-                        required);
+  return app.set_config("--config", default_file, "YAML config file; command-line flags override its values", required);
 }
 
 }  // namespace semfuse

@@ -28,12 +28,18 @@ std::array<uint8_t, 3> LabelLegend::colorOf(LabelId id) const {
   const auto mid = static_cast<uint8_t>(lo + (hi - lo) * f);
   const auto mid_inv = static_cast<uint8_t>(hi - (hi - lo) * f);
   switch (sector % 6) {
-    case 0: return {hi, mid, lo};
-    case 1: return {mid_inv, hi, lo};
-    case 2: return {lo, hi, mid};
-    case 3: return {lo, mid_inv, hi};
-    case 4: return {mid, lo, hi};
-    default: return {hi, lo, mid_inv};
+    case 0:
+      return {hi, mid, lo};
+    case 1:
+      return {mid_inv, hi, lo};
+    case 2:
+      return {lo, hi, mid};
+    case 3:
+      return {lo, mid_inv, hi};
+    case 4:
+      return {mid, lo, hi};
+    default:
+      return {hi, lo, mid_inv};
   }
 }
 

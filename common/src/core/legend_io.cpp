@@ -52,9 +52,9 @@ std::size_t utf8SequenceLength(const std::string& text, std::size_t at) {
     code_point = (code_point << 6) | (byte(k) & 0x3f);
   }
   constexpr uint32_t kSmallestOfLength[5] = {0, 0, 0x80, 0x800, 0x10000};
-  if (code_point < kSmallestOfLength[length]) return 0;           // overlong
-  if (code_point >= 0xd800 && code_point <= 0xdfff) return 0;     // surrogate
-  if (code_point > 0x10ffff) return 0;                            // past Unicode
+  if (code_point < kSmallestOfLength[length]) return 0;        // overlong
+  if (code_point >= 0xd800 && code_point <= 0xdfff) return 0;  // surrogate
+  if (code_point > 0x10ffff) return 0;                         // past Unicode
   return length;
 }
 
@@ -81,10 +81,12 @@ Status validateLegend(const LabelLegend& legend) {
   for (std::size_t i = 0; i < legend.labels.size(); ++i) {
     const LabelInfo& label = legend.labels[i];
     if (i > 0 && label.id <= legend.labels[i - 1].id) {
-      return makeError("legend '" + legend.name + "': label id " + std::to_string(label.id) +
-                       (label.id == legend.labels[i - 1].id ? " appears twice" : " is out of order (ids must be sorted)"));
+      return makeError(
+          "legend '" + legend.name + "': label id " + std::to_string(label.id) +
+          (label.id == legend.labels[i - 1].id ? " appears twice" : " is out of order (ids must be sorted)"));
     }
-    if (label.name.empty()) return makeError("legend '" + legend.name + "': label " + std::to_string(label.id) + " has no name");
+    if (label.name.empty())
+      return makeError("legend '" + legend.name + "': label " + std::to_string(label.id) + " has no name");
     if (std::string problem = nameProblem(label.name); !problem.empty()) {
       return makeError("legend '" + legend.name + "': the name of label " + std::to_string(label.id) + " " + problem);
     }

@@ -22,8 +22,8 @@ Result<cv::Mat> readDepthAsMetres(const std::filesystem::path& file, double metr
   const cv::Mat raw = cv::imread(file.string(), cv::IMREAD_ANYDEPTH);
   if (raw.empty()) return unreadable(file, "depth image");
   if (raw.type() != CV_16UC1) {
-    return makeError("depth image is not 16-bit single channel (OpenCV type " +
-                     std::to_string(raw.type()) + "): " + file.string());
+    return makeError("depth image is not 16-bit single channel (OpenCV type " + std::to_string(raw.type()) +
+                     "): " + file.string());
   }
   cv::Mat metres;
   raw.convertTo(metres, CV_32F, metres_per_unit);

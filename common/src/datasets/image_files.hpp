@@ -12,8 +12,7 @@ namespace semfuse::datasets::detail {
 
 // Reads a 16-bit single-channel PNG and converts it to CV_32FC1 metres. Raw 0 is invalid (0 m);
 // with saturated_is_invalid, raw 65535 too (7-Scenes writes it where the sensor gave no depth).
-Result<cv::Mat> readDepthAsMetres(const std::filesystem::path& file, double metres_per_unit,
-                                  bool saturated_is_invalid);
+Result<cv::Mat> readDepthAsMetres(const std::filesystem::path& file, double metres_per_unit, bool saturated_is_invalid);
 
 // Reads a colour image as CV_8UC3 in RGB order (OpenCV decodes to BGR).
 Result<cv::Mat> readColorAsRgb(const std::filesystem::path& file);

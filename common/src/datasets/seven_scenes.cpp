@@ -22,8 +22,7 @@ std::optional<uint64_t> frameNumberOf(const std::string& name) {
     return std::nullopt;
   }
   const std::string digits = name.substr(prefix.size(), name.size() - prefix.size() - suffix.size());
-  const bool all_digits =
-      std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; });
+  const bool all_digits = std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; });
   if (digits.empty() || digits.size() > 18 || !all_digits) return std::nullopt;
   return std::stoull(digits);
 }
@@ -115,8 +114,8 @@ Result<Frame> SevenScenesReader::loadDepthOnly(std::size_t index) const { return
 
 Result<Frame> SevenScenesReader::loadFrame(std::size_t index, bool with_color) const {
   if (index >= count()) {
-    return makeError("7-Scenes frame index " + std::to_string(index) + " out of range (" +
-                     std::to_string(count()) + " frames)");
+    return makeError("7-Scenes frame index " + std::to_string(index) + " out of range (" + std::to_string(count()) +
+                     " frames)");
   }
   Frame frame;
   frame.camera_id = options_.camera_id;
@@ -130,8 +129,8 @@ Result<Frame> SevenScenesReader::loadFrame(std::size_t index, bool with_color) c
   if (!depth) return makeError(depth.error());
   frame.depth = std::move(depth).value();
   if (frame.depth.cols != intrinsics_.width || frame.depth.rows != intrinsics_.height) {
-    return makeError("depth image " + depthPath(index).string() + " is " + std::to_string(frame.depth.cols) +
-                     "x" + std::to_string(frame.depth.rows) + ", the sequence's first frame is " +
+    return makeError("depth image " + depthPath(index).string() + " is " + std::to_string(frame.depth.cols) + "x" +
+                     std::to_string(frame.depth.rows) + ", the sequence's first frame is " +
                      std::to_string(intrinsics_.width) + "x" + std::to_string(intrinsics_.height));
   }
 
@@ -140,9 +139,9 @@ Result<Frame> SevenScenesReader::loadFrame(std::size_t index, bool with_color) c
     if (!color) return makeError(color.error());
     frame.color = std::move(color).value();
     if (frame.color.size() != frame.depth.size()) {
-      return makeError("colour image " + colorPath(index).string() + " is " + std::to_string(frame.color.cols) +
-                       "x" + std::to_string(frame.color.rows) + ", depth is " + std::to_string(frame.depth.cols) +
-                       "x" + std::to_string(frame.depth.rows));
+      return makeError("colour image " + colorPath(index).string() + " is " + std::to_string(frame.color.cols) + "x" +
+                       std::to_string(frame.color.rows) + ", depth is " + std::to_string(frame.depth.cols) + "x" +
+                       std::to_string(frame.depth.rows));
     }
   }
 

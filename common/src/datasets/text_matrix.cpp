@@ -22,8 +22,8 @@ Result<std::vector<double>> readNumbers(const std::filesystem::path& file, std::
     values.push_back(value);
   }
   if (values.size() != expected_count) {
-    return makeError(what + " " + file.string() + ": " + std::to_string(values.size()) +
-                     " numbers, expected " + std::to_string(expected_count));
+    return makeError(what + " " + file.string() + ": " + std::to_string(values.size()) + " numbers, expected " +
+                     std::to_string(expected_count));
   }
   return values;
 }

@@ -92,8 +92,8 @@ Result<std::vector<TimedPose>> readGroundTruth(const fs::path& file) {
 // Index of the element of a time-sorted list nearest to `time`, if within `window` seconds.
 template <typename T>
 std::optional<std::size_t> nearestInTime(const std::vector<T>& sorted, double time, double window) {
-  auto after = std::lower_bound(sorted.begin(), sorted.end(), time,
-                                [](const T& item, double t) { return item.time < t; });
+  auto after =
+      std::lower_bound(sorted.begin(), sorted.end(), time, [](const T& item, double t) { return item.time < t; });
   std::optional<std::size_t> best;
   double best_gap = window;
   auto consider = [&](typename std::vector<T>::const_iterator it) {
@@ -113,10 +113,14 @@ std::optional<std::size_t> nearestInTime(const std::vector<T>& sorted, double ti
 std::optional<PinholeIntrinsics> tumFreiburgIntrinsics(int freiburg_number) {
   // Published on the TUM RGB-D benchmark's "file formats" page (depth camera, 640x480).
   switch (freiburg_number) {
-    case 1: return PinholeIntrinsics{640, 480, 517.3, 516.5, 318.6, 255.3};
-    case 2: return PinholeIntrinsics{640, 480, 520.9, 521.0, 325.1, 249.7};
-    case 3: return PinholeIntrinsics{640, 480, 535.4, 539.2, 320.1, 247.6};
-    default: return std::nullopt;
+    case 1:
+      return PinholeIntrinsics{640, 480, 517.3, 516.5, 318.6, 255.3};
+    case 2:
+      return PinholeIntrinsics{640, 480, 520.9, 521.0, 325.1, 249.7};
+    case 3:
+      return PinholeIntrinsics{640, 480, 535.4, 539.2, 320.1, 247.6};
+    default:
+      return std::nullopt;
   }
 }
 
@@ -211,8 +215,8 @@ Result<Frame> TumRgbdReader::loadFrame(std::size_t index, bool with_color) const
     frame.color = std::move(color).value();
     if (frame.color.size() != frame.depth.size()) {
       return makeError("colour image " + (folder_ / source.color_file).string() + " is " +
-                       std::to_string(frame.color.cols) + "x" + std::to_string(frame.color.rows) +
-                       ", depth is " + std::to_string(frame.depth.cols) + "x" + std::to_string(frame.depth.rows));
+                       std::to_string(frame.color.cols) + "x" + std::to_string(frame.color.rows) + ", depth is " +
+                       std::to_string(frame.depth.cols) + "x" + std::to_string(frame.depth.rows));
     }
   }
   return frame;

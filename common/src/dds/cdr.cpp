@@ -36,8 +36,7 @@ std::vector<uint8_t> serialize(const dds_topic_descriptor_t& descriptor, const v
   return bytes;
 }
 
-Status deserialize(const dds_topic_descriptor_t& descriptor, const uint8_t* bytes,
-                   std::size_t size, void* sample) {
+Status deserialize(const dds_topic_descriptor_t& descriptor, const uint8_t* bytes, std::size_t size, void* sample) {
   const std::string type = descriptor.m_typename;
   if (size < kHeaderSize) {
     return makeError(type + ": " + std::to_string(size) + " bytes, shorter than the 4-byte CDR header");
@@ -57,8 +56,7 @@ Status deserialize(const dds_topic_descriptor_t& descriptor, const uint8_t* byte
   std::vector<char> data(bytes + kHeaderSize, bytes + size);
   const bool swap = (bytes[1] == kCdrBigEndian) != (DDSRT_ENDIAN == DDSRT_BIG_ENDIAN);
   uint32_t consumed = 0;
-  if (!dds_stream_normalize_data(data.data(), &consumed, static_cast<uint32_t>(body), swap, kXcdr1,
-                                 descriptor.m_ops)) {
+  if (!dds_stream_normalize_data(data.data(), &consumed, static_cast<uint32_t>(body), swap, kXcdr1, descriptor.m_ops)) {
     return makeError(type + ": malformed CDR in " + std::to_string(body) +
                      "-byte body (a length or count runs past the end, or a value is invalid)");
   }
@@ -66,8 +64,7 @@ Status deserialize(const dds_topic_descriptor_t& descriptor, const uint8_t* byte
   // options word announces it (XTypes 1.3 says so, older ROS 2 stacks leave it 0), so any
   // 0-3 bytes are accepted.
   if (body - consumed > 3) {
-    return makeError(type + ": " + std::to_string(body - consumed) +
-                     " trailing bytes after the sample");
+    return makeError(type + ": " + std::to_string(body - consumed) + " trailing bytes after the sample");
   }
   dds_istream_t is;
   dds_istream_init(&is, static_cast<uint32_t>(body), data.data(), kXcdr1);

@@ -2,9 +2,7 @@
 
 namespace semfuse::dds {
 
-std::string describe(const std::string& what, dds_return_t code) {
-  return what + ": " + dds_strretcode(code);
-}
+std::string describe(const std::string& what, dds_return_t code) { return what + ": " + dds_strretcode(code); }
 
 DdsError::DdsError(const std::string& what, dds_return_t code)
     : std::runtime_error(describe(what, code)), code_(code) {}

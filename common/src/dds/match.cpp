@@ -9,8 +9,7 @@ using Getter = int32_t (*)(dds_entity_t);
 
 // Waits on the endpoint's status condition: matching changes raise it, and reading the
 // status (in count()) lowers it again, so each change wakes the loop once.
-bool waitForCount(dds_entity_t endpoint, uint32_t status, Getter count, int32_t wanted,
-                  dds_duration_t timeout) {
+bool waitForCount(dds_entity_t endpoint, uint32_t status, Getter count, int32_t wanted, dds_duration_t timeout) {
   if (count(endpoint) >= wanted) return true;
   const dds_entity_t participant = dds_get_participant(endpoint);
   if (participant < 0) return false;

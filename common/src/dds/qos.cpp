@@ -54,9 +54,7 @@ namespace qos {
 
 Qos frames() { return std::move(Qos().reliable(kMaxBlockingTime).keepLast(2).volatileDurability()); }
 Qos frameIngest() { return std::move(Qos().reliable(kMaxBlockingTime).keepLast(8).volatileDurability()); }
-Qos segmentations() {
-  return std::move(Qos().reliable(kMaxBlockingTime).keepLast(8).volatileDurability());
-}
+Qos segmentations() { return std::move(Qos().reliable(kMaxBlockingTime).keepLast(8).volatileDurability()); }
 Qos poses() { return std::move(Qos().reliable(kMaxBlockingTime).keepLast(10).volatileDurability()); }
 Qos status() { return std::move(Qos().reliable(kMaxBlockingTime).keepLast(1).transientLocal()); }
 Qos legend() { return std::move(Qos().reliable(kMaxBlockingTime).keepLast(1).transientLocal()); }

@@ -59,8 +59,7 @@ void releaseSertype(ddsi_sertype* sertype) {
   if (sertype) ddsi_sertype_unref(sertype);
 }
 
-Status writeSerialized(dds_entity_t writer, ddsi_sertype* sertype, const uint8_t* bytes,
-                       std::size_t size) {
+Status writeSerialized(dds_entity_t writer, ddsi_sertype* sertype, const uint8_t* bytes, std::size_t size) {
   if (size < 4) return makeError("write serialized: " + std::to_string(size) + " bytes, no CDR header");
   ddsrt_iovec_t iov;
   iov.iov_base = const_cast<uint8_t*>(bytes);  // only read

@@ -27,8 +27,7 @@ double axialSigma(const DepthNoiseParams& p, double z, double theta) {
   return sigma;
 }
 
-cv::Mat applyDepthNoise(const RenderedView& view, const DepthNoiseParams& p, uint64_t seed,
-                        uint64_t frame_index) {
+cv::Mat applyDepthNoise(const RenderedView& view, const DepthNoiseParams& p, uint64_t seed, uint64_t frame_index) {
   cv::Mat noisy = cv::Mat::zeros(view.depth.size(), CV_32FC1);
   const PinholeIntrinsics& k = view.intrinsics;
   const Eigen::Matrix3d world_to_camera = view.camera_to_world.linear().transpose();

@@ -26,9 +26,7 @@ bool mayHit(const Aabb& box, const Ray& ray, const Eigen::Vector3d& inv_directio
   return true;
 }
 
-uint8_t shade(uint8_t base, double factor) {
-  return static_cast<uint8_t>(std::clamp(base * factor, 0.0, 255.0));
-}
+uint8_t shade(uint8_t base, double factor) { return static_cast<uint8_t>(std::clamp(base * factor, 0.0, 255.0)); }
 
 }  // namespace
 
@@ -78,8 +76,8 @@ Rgb LabeledScene::colorAt(const SurfaceHit& hit) const {
       break;
     }
     case Texture::kStripes:
-      pattern = 0.7 * std::sin(2.0 * M_PI * (p.x() + p.y() + 0.5 * p.z()) / 0.15) +
-                0.3 * valueNoise(p * 10.0, texture_seed_);
+      pattern =
+          0.7 * std::sin(2.0 * M_PI * (p.x() + p.y() + 0.5 * p.z()) / 0.15) + 0.3 * valueNoise(p * 10.0, texture_seed_);
       break;
     case Texture::kNoise:
       pattern = 0.6 * valueNoise(p * 8.0, texture_seed_) + 0.4 * valueNoise(p * 32.0, texture_seed_ + 1);

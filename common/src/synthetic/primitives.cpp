@@ -25,7 +25,10 @@ std::optional<RayHit> intersectBox(const OrientedBox& box, const Ray& ray, doubl
     double t0 = (-h - o[axis]) / d[axis];
     double t1 = (h - o[axis]) / d[axis];
     if (t0 > t1) std::swap(t0, t1);
-    if (t0 > t_near) { t_near = t0; near_axis = axis; }
+    if (t0 > t_near) {
+      t_near = t0;
+      near_axis = axis;
+    }
     t_far = std::min(t_far, t1);
   }
   if (near_axis < 0 || t_near > t_far || t_near <= t_min) return std::nullopt;
@@ -97,7 +100,9 @@ double cylinderDistance(const UprightCylinder& cyl, const Eigen::Vector3d& p) {
 }
 
 template <class... Ts>
-struct Overloaded : Ts... { using Ts::operator()...; };
+struct Overloaded : Ts... {
+  using Ts::operator()...;
+};
 template <class... Ts>
 Overloaded(Ts...) -> Overloaded<Ts...>;
 
@@ -122,22 +127,21 @@ double signedDistance(const Shape& shape, const Eigen::Vector3d& p) {
 }
 
 Aabb bounds(const Shape& shape) {
-  return std::visit(
-      Overloaded{
-          [](const OrientedBox& b) {
-            // Extent along each world axis = sum of |box axis component| * half extent.
-            const Eigen::Vector3d e = b.world_from_box.cwiseAbs() * b.half_extents;
-            return Aabb{b.center - e, b.center + e};
-          },
-          [](const Sphere& s) {
-            return Aabb{(s.center.array() - s.radius).matrix(), (s.center.array() + s.radius).matrix()};
-          },
-          [](const UprightCylinder& c) {
-            return Aabb{Eigen::Vector3d(c.center.x() - c.radius, c.center.y() - c.radius, c.z_min),
-                        Eigen::Vector3d(c.center.x() + c.radius, c.center.y() + c.radius, c.z_max)};
-          },
-      },
-      shape);
+  return std::visit(Overloaded{
+                        [](const OrientedBox& b) {
+                          // Extent along each world axis = sum of |box axis component| * half extent.
+                          const Eigen::Vector3d e = b.world_from_box.cwiseAbs() * b.half_extents;
+                          return Aabb{b.center - e, b.center + e};
+                        },
+                        [](const Sphere& s) {
+                          return Aabb{(s.center.array() - s.radius).matrix(), (s.center.array() + s.radius).matrix()};
+                        },
+                        [](const UprightCylinder& c) {
+                          return Aabb{Eigen::Vector3d(c.center.x() - c.radius, c.center.y() - c.radius, c.z_min),
+                                      Eigen::Vector3d(c.center.x() + c.radius, c.center.y() + c.radius, c.z_max)};
+                        },
+                    },
+                    shape);
 }
 
 }  // namespace semfuse::synthetic

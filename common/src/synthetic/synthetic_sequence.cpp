@@ -13,8 +13,8 @@ SyntheticSequence::SyntheticSequence(SequenceConfig config)
 
 Status SyntheticSequence::checkIndex(int index) const {
   if (index < 0 || index >= frameCount())
-    return makeError("synthetic frame index " + std::to_string(index) + " outside [0, " +
-                     std::to_string(frameCount()) + ")");
+    return makeError("synthetic frame index " + std::to_string(index) + " outside [0, " + std::to_string(frameCount()) +
+                     ")");
   return Status::Ok();
 }
 
@@ -37,8 +37,7 @@ Frame SyntheticSequence::makeFrame(const RenderedView& view, int index, bool wit
   frame.seq = static_cast<uint64_t>(index);
   frame.stamp = stampOf(index);
   frame.intrinsics = view.intrinsics;
-  frame.depth = config_.noise ? applyDepthNoise(view, *config_.noise, config_.seed, frame.seq)
-                              : view.depth.clone();
+  frame.depth = config_.noise ? applyDepthNoise(view, *config_.noise, config_.seed, frame.seq) : view.depth.clone();
   frame.color = view.color.clone();
   if (with_pose) frame.camera_to_world = view.camera_to_world;
   return frame;
@@ -71,8 +70,7 @@ Result<Segmentation> SyntheticSequence::groundTruth(int index) const {
 Result<std::pair<Frame, Segmentation>> SyntheticSequence::frameWithGroundTruth(int index, bool with_pose) const {
   auto rendered = view(index);
   if (!rendered) return makeError(rendered.error());
-  return std::make_pair(makeFrame(rendered.value(), index, with_pose),
-                        makeSegmentation(rendered.value(), index));
+  return std::make_pair(makeFrame(rendered.value(), index, with_pose), makeSegmentation(rendered.value(), index));
 }
 
 }  // namespace semfuse::synthetic

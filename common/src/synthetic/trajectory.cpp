@@ -23,9 +23,9 @@ Pose OrbitTrajectory::pose(double frame) const {
   const double height_wave = std::sin(2.0 * M_PI * 2.0 * s);
   const Eigen::Vector3d eye(center.x() + radius * std::cos(angle), center.y() + radius * std::sin(angle),
                             height + height_amplitude * height_wave);
-  const Eigen::Vector3d gaze = target + target_amplitude * Eigen::Vector3d(std::sin(2.0 * M_PI * 3.0 * s),
-                                                                           std::cos(2.0 * M_PI * 2.0 * s),
-                                                                           0.5 * std::sin(2.0 * M_PI * s));
+  const Eigen::Vector3d gaze =
+      target + target_amplitude * Eigen::Vector3d(std::sin(2.0 * M_PI * 3.0 * s), std::cos(2.0 * M_PI * 2.0 * s),
+                                                  0.5 * std::sin(2.0 * M_PI * s));
   return lookAt(eye, gaze);
 }
 

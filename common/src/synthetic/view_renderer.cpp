@@ -16,8 +16,7 @@ Ray pixelRay(const PinholeIntrinsics& k, const Pose& camera_to_world, double u, 
 
 Status validateCamera(const PinholeIntrinsics& k, const Pose& camera_to_world) {
   if (k.width <= 0 || k.height <= 0)
-    return makeError("image size must be positive, got " + std::to_string(k.width) + "x" +
-                     std::to_string(k.height));
+    return makeError("image size must be positive, got " + std::to_string(k.width) + "x" + std::to_string(k.height));
   if (!(k.fx > 0.0) || !(k.fy > 0.0) || !std::isfinite(k.fx) || !std::isfinite(k.fy))
     return makeError("focal lengths must be positive and finite, got fx=" + std::to_string(k.fx) +
                      " fy=" + std::to_string(k.fy));
@@ -26,8 +25,7 @@ Status validateCamera(const PinholeIntrinsics& k, const Pose& camera_to_world) {
   return Status::Ok();
 }
 
-Result<RenderedView> renderView(const LabeledScene& scene, const PinholeIntrinsics& k,
-                                const Pose& camera_to_world) {
+Result<RenderedView> renderView(const LabeledScene& scene, const PinholeIntrinsics& k, const Pose& camera_to_world) {
   if (Status valid = validateCamera(k, camera_to_world); !valid) return makeError(valid.error());
   RenderedView view;
   view.intrinsics = k;

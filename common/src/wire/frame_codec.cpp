@@ -96,7 +96,8 @@ Result<cv::Mat> decodeDepth(const semfuse_msg_dds__Frame_& msg, uint32_t width, 
     }
     const cv::Mat payload(1, static_cast<int>(bytes), CV_8UC1, const_cast<uint8_t*>(sequenceData(msg.depth)));
     units = cv::imdecode(payload, cv::IMREAD_ANYDEPTH);
-    if (Status s = validateDecodedImage("depth", "PNG", units, width, height, CV_16UC1); !s) return makeError(s.error());
+    if (Status s = validateDecodedImage("depth", "PNG", units, width, height, CV_16UC1); !s)
+      return makeError(s.error());
   }
   return depthUnitsToMetres(units, msg.depth_scale);
 }

@@ -20,7 +20,8 @@ const std::vector<std::string>& confidenceEncodings() {
 Result<EncodedSegmentation> encodeSegmentation(const Segmentation& segmentation,
                                                const std::string& confidence_encoding) {
   const cv::Mat& labels = segmentation.labels;
-  if (labels.type() != CV_16UC1) return makeError("encodeSegmentation: labels must be CV_16UC1, got " + typeName(labels.type()));
+  if (labels.type() != CV_16UC1)
+    return makeError("encodeSegmentation: labels must be CV_16UC1, got " + typeName(labels.type()));
   if (Status s = validateImageSize("segmentation", labels.cols, labels.rows); !s) return makeError(s.error());
   const bool has_confidence = !segmentation.confidence.empty();
   const std::string encoding = has_confidence ? confidence_encoding : "";
@@ -43,8 +44,8 @@ Result<EncodedSegmentation> encodeSegmentation(const Segmentation& segmentation,
   msg.width = static_cast<uint32_t>(labels.cols);
   msg.height = static_cast<uint32_t>(labels.rows);
   const cv::Mat continuous = labels.isContinuous() ? labels : labels.clone();
-  encoded.keepSequence(msg.labels, std::vector<uint16_t>(continuous.ptr<uint16_t>(),
-                                                         continuous.ptr<uint16_t>() + continuous.total()));
+  encoded.keepSequence(
+      msg.labels, std::vector<uint16_t>(continuous.ptr<uint16_t>(), continuous.ptr<uint16_t>() + continuous.total()));
   msg.confidence_encoding = encoded.keepString(encoding);
   std::vector<uint8_t> confidence;
   if (encoding == "8UC1") {
@@ -52,7 +53,8 @@ Result<EncodedSegmentation> encodeSegmentation(const Segmentation& segmentation,
     segmentation.confidence.convertTo(bytes, CV_8U, 255.0);  // rounds and saturates
     confidence.assign(bytes.ptr<uint8_t>(), bytes.ptr<uint8_t>() + bytes.total());
   } else if (encoding == "32FC1") {
-    const cv::Mat floats = segmentation.confidence.isContinuous() ? segmentation.confidence : segmentation.confidence.clone();
+    const cv::Mat floats =
+        segmentation.confidence.isContinuous() ? segmentation.confidence : segmentation.confidence.clone();
     confidence.assign(floats.ptr<uint8_t>(), floats.ptr<uint8_t>() + floats.total() * sizeof(float));
   }
   encoded.keepSequence(msg.confidence, std::move(confidence));
@@ -81,7 +83,9 @@ Result<Segmentation> decodeSegmentation(const semfuse_msg_dds__Segmentation_& ms
 
   const std::string encoding = stringOf(msg.confidence_encoding);
   if (Status s = validateEncoding("confidence", encoding, confidenceEncodings()); !s) return makeError(s.error());
-  if (Status s = validateSequence("confidence", msg.confidence._length, msg.confidence._maximum, msg.confidence._buffer); !s) {
+  if (Status s =
+          validateSequence("confidence", msg.confidence._length, msg.confidence._maximum, msg.confidence._buffer);
+      !s) {
     return makeError(s.error());
   }
   const std::size_t bytes = msg.confidence._length;
@@ -89,11 +93,13 @@ Result<Segmentation> decodeSegmentation(const semfuse_msg_dds__Segmentation_& ms
     if (bytes != 0) return makeError("confidence: " + std::to_string(bytes) + " bytes with encoding \"\" (none)");
     segmentation.confidence = cv::Mat(h, w, CV_32FC1, cv::Scalar(1.0f));
   } else if (encoding == "8UC1") {
-    if (Status s = validateDataSize("confidence", bytes, msg.width, msg.height, encoding, 1); !s) return makeError(s.error());
+    if (Status s = validateDataSize("confidence", bytes, msg.width, msg.height, encoding, 1); !s)
+      return makeError(s.error());
     const cv::Mat bytes_view(h, w, CV_8UC1, msg.confidence._buffer);
     bytes_view.convertTo(segmentation.confidence, CV_32F, 1.0 / 255.0);
   } else {
-    if (Status s = validateDataSize("confidence", bytes, msg.width, msg.height, encoding, 4); !s) return makeError(s.error());
+    if (Status s = validateDataSize("confidence", bytes, msg.width, msg.height, encoding, 4); !s)
+      return makeError(s.error());
     segmentation.confidence.create(h, w, CV_32FC1);
     std::memcpy(segmentation.confidence.data, msg.confidence._buffer, bytes);
     if (Status s = validateConfidence(segmentation.confidence); !s) return makeError(s.error());
@@ -122,7 +128,8 @@ EncodedTrackedPose encodeTrackedPose(const TrackedPose& pose) {
 
 Result<TrackedPose> decodeTrackedPose(const semfuse_msg_dds__TrackedPose_& msg) {
   if (msg.state > static_cast<uint8_t>(PoseState::kLost)) {
-    return makeError("tracked pose: unknown state " + std::to_string(msg.state) + " (known: 0 given, 1 tracked, 2 refined, 3 lost)");
+    return makeError("tracked pose: unknown state " + std::to_string(msg.state) +
+                     " (known: 0 given, 1 tracked, 2 refined, 3 lost)");
   }
   TrackedPose pose;
   pose.camera_id = stringOf(msg.camera_id);

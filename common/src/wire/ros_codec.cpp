@@ -19,7 +19,7 @@ namespace {
 
 struct RosEncoding {
   const char* name;
-  int cv_type;       // type of the raw pixels
+  int cv_type;  // type of the raw pixels
   int channels;
   bool swap_to_rgb;  // BGR(A) order on the wire
 };
@@ -121,7 +121,8 @@ Result<OwnedImage> matToImage(const cv::Mat& image, const std::string& encoding,
 
 Result<cv::Mat> compressedImageToMat(const sensor_msgs_msg_dds__CompressedImage_& msg) {
   std::string format = stringOf(msg.format);
-  std::transform(format.begin(), format.end(), format.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  std::transform(format.begin(), format.end(), format.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   if (format.find("compresseddepth") != std::string::npos) {
     return makeError("compressed image: format '" + format + "' (compressedDepth) is not supported; send 16UC1 PNG");
   }
@@ -133,11 +134,11 @@ Result<cv::Mat> compressedImageToMat(const sensor_msgs_msg_dds__CompressedImage_
   }
   if (msg.data._length == 0) return makeError("compressed image: empty payload");
   // The declared size is bounded before decoding: the decoder allocates what the header says.
-  auto declared = png ? pngDeclaredSize(msg.data._buffer, msg.data._length)
-                      : jpegDeclaredSize(msg.data._buffer, msg.data._length);
+  auto declared =
+      png ? pngDeclaredSize(msg.data._buffer, msg.data._length) : jpegDeclaredSize(msg.data._buffer, msg.data._length);
   if (!declared) {
-    return makeError(std::string("compressed image: ") + (png ? "PNG" : "JPEG") + " payload does not decode: " +
-                     declared.error());
+    return makeError(std::string("compressed image: ") + (png ? "PNG" : "JPEG") +
+                     " payload does not decode: " + declared.error());
   }
   if (Status s = validateImageSize("compressed image", declared.value().width, declared.value().height); !s) {
     return makeError(s.error());
@@ -158,15 +159,16 @@ Result<cv::Mat> compressedImageToMat(const sensor_msgs_msg_dds__CompressedImage_
   } catch (const cv::Exception&) {
     decoded.release();
   }
-  if (decoded.empty()) return makeError(std::string("compressed image: ") + (png ? "PNG" : "JPEG") + " payload does not decode");
+  if (decoded.empty())
+    return makeError(std::string("compressed image: ") + (png ? "PNG" : "JPEG") + " payload does not decode");
   if (Status s = validateImageSize("compressed image", decoded.cols, decoded.rows); !s) return makeError(s.error());
   return decoded.type() == CV_8UC3 ? swapRedBlue(decoded) : decoded;
 }
 
 Result<PinholeIntrinsics> intrinsicsFromCameraInfo(const sensor_msgs_msg_dds__CameraInfo_& msg) {
   if (Status s = validateImageSize("camera info", msg.width, msg.height); !s) return makeError(s.error());
-  PinholeIntrinsics intrinsics{static_cast<int>(msg.width), static_cast<int>(msg.height), msg.k[0], msg.k[4],
-                               msg.k[2], msg.k[5]};
+  PinholeIntrinsics intrinsics{
+      static_cast<int>(msg.width), static_cast<int>(msg.height), msg.k[0], msg.k[4], msg.k[2], msg.k[5]};
   if (Status s = validateIntrinsics(intrinsics); !s) return makeError("camera info: " + s.error());
   return intrinsics;
 }

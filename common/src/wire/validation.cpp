@@ -86,8 +86,8 @@ Status validateIntrinsics(const PinholeIntrinsics& k, uint32_t max_side) {
 
 Status validatePose(const Pose& pose, double tolerance) { return checkRigidPose(pose, tolerance); }
 
-Status validateDecodedImage(const std::string& what, const std::string& format, const cv::Mat& decoded,
-                            uint32_t width, uint32_t height, int expected_type) {
+Status validateDecodedImage(const std::string& what, const std::string& format, const cv::Mat& decoded, uint32_t width,
+                            uint32_t height, int expected_type) {
   if (decoded.empty()) return makeError(what + ": " + format + " payload does not decode");
   if (decoded.cols != static_cast<int>(width) || decoded.rows != static_cast<int>(height) ||
       decoded.type() != expected_type) {
@@ -118,8 +118,8 @@ Status pngChunksComplete(const uint8_t* data, std::size_t size) {
   if (data == nullptr || !hasPngSignature(data, size)) return makeError("not a PNG (bad signature or header)");
   std::size_t at = kPngSignature.size();
   while (size - at >= kChunkOverhead) {
-    const uint64_t length = (uint64_t{data[at]} << 24) | (uint64_t{data[at + 1]} << 16) |
-                            (uint64_t{data[at + 2]} << 8) | data[at + 3];
+    const uint64_t length =
+        (uint64_t{data[at]} << 24) | (uint64_t{data[at + 1]} << 16) | (uint64_t{data[at + 2]} << 8) | data[at + 3];
     const std::string type(reinterpret_cast<const char*>(data) + at + 4, 4);
     if (length > size - at - kChunkOverhead) {
       return makeError("truncated: chunk '" + type + "' at byte " + std::to_string(at) + " declares " +

@@ -19,7 +19,7 @@ struct HistoryEntry {
   uint64_t seq = 0;
   bool integrated = false;  // false: tracking lost, the frame changed nothing in the map
   PinholeIntrinsics intrinsics;
-  cv::Mat depth;            // CV_32FC1 metres; empty when not integrated
+  cv::Mat depth;  // CV_32FC1 metres; empty when not integrated
   Pose camera_to_world = Pose::Identity();
 
   size_t bytes() const { return depth.total() * depth.elemSize() + sizeof(*this); }

@@ -136,8 +136,12 @@ void FusionLoop::processFrame(Frame frame) {
   state_.frameProcessed(frame.camera_id, result.integrated, tracking_state);
   if (on_frame_) on_frame_(frame, result);
 
-  HistoryEntry entry{frame.camera_id, frame.seq, result.integrated, frame.intrinsics,
-                     result.integrated ? frame.depth : cv::Mat(), result.camera_to_world};
+  HistoryEntry entry{frame.camera_id,
+                     frame.seq,
+                     result.integrated,
+                     frame.intrinsics,
+                     result.integrated ? frame.depth : cv::Mat(),
+                     result.camera_to_world};
   history_.add(std::move(entry));
   const HistoryEntry* stored = history_.find(frame.camera_id, frame.seq);
   for (const auto& segmentation : waiting) {
@@ -181,15 +185,14 @@ void FusionLoop::integrateLabels(const HistoryEntry& entry, const Segmentation& 
   if (segmentation.labels.cols > entry.depth.cols || segmentation.labels.rows > entry.depth.rows) {
     state_.reject(reason::kSizeMismatch, segmentation.camera_id, "segmentation " + segmentation.segmenter_id,
                   "labels " + std::to_string(segmentation.labels.cols) + "x" +
-                      std::to_string(segmentation.labels.rows) + " are larger than frame " +
-                      std::to_string(entry.seq) + "'s depth " + std::to_string(entry.depth.cols) + "x" +
-                      std::to_string(entry.depth.rows));
+                      std::to_string(segmentation.labels.rows) + " are larger than frame " + std::to_string(entry.seq) +
+                      "'s depth " + std::to_string(entry.depth.cols) + "x" + std::to_string(entry.depth.rows));
     return;
   }
   auto stats = mapper_.integrateSegmentation(entry, segmentation);
   if (!stats.ok()) {
-    state_.reject(reason::kInvalidSegmentation, segmentation.camera_id,
-                  "segmentation " + segmentation.segmenter_id, stats.error());
+    state_.reject(reason::kInvalidSegmentation, segmentation.camera_id, "segmentation " + segmentation.segmenter_id,
+                  stats.error());
     return;
   }
   ++state_.segmentations_integrated;
@@ -201,9 +204,9 @@ void FusionLoop::expirePending() {
     const bool camera_known = state_.knowsCamera(expired.camera_id);
     if (camera_known) {
       state_.dropped.add(reason::kSegmentationTimeout, expired.camera_id);
-      state_.errors.record("segmentation " + expired.segmenter_id,
-                           "frame " + expired.camera_id + "/" + std::to_string(expired.frame_seq) +
-                               " never arrived; segmentation dropped");
+      state_.errors.record("segmentation " + expired.segmenter_id, "frame " + expired.camera_id + "/" +
+                                                                       std::to_string(expired.frame_seq) +
+                                                                       " never arrived; segmentation dropped");
       state_.touch();
     } else {
       state_.reject(reason::kUnknownCamera, expired.camera_id, "segmentation " + expired.segmenter_id,

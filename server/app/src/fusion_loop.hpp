@@ -62,8 +62,8 @@ class FusionLoop {
   ServerState& state_;
   FrameCallback on_frame_;
 
-  FrameHistory history_;            // fusion thread only
-  PendingSegmentations pending_;    // fusion thread only
+  FrameHistory history_;          // fusion thread only
+  PendingSegmentations pending_;  // fusion thread only
   std::atomic<size_t> history_size_{0};
   std::atomic<size_t> pending_size_{0};
   std::atomic<bool> busy_{false};

@@ -50,8 +50,8 @@ MapperOptions mapperOptions(const ServerConfig& config, const LabelLegend& legen
   // The top-5 rules store runners-up in 10 bits: a legend beyond that would lose labels silently.
   if (volume::usesLabelSidecar(rule.value()) && legend.maxId() > volume::kMaxRunnerUpLabel)
     throw std::runtime_error("--label-rule " + config.label_rule + " keeps label ids up to " +
-                             std::to_string(volume::kMaxRunnerUpLabel) + ", but legend '" + legend.name +
-                             "' has id " + std::to_string(legend.maxId()) + "; use --label-rule evidence");
+                             std::to_string(volume::kMaxRunnerUpLabel) + ", but legend '" + legend.name + "' has id " +
+                             std::to_string(legend.maxId()) + "; use --label-rule evidence");
   options.volume.label_classes = static_cast<int>(std::clamp<std::size_t>(legend.labels.size(), 2, 65535));
   options.volume.min_depth = config.min_depth;
   options.volume.max_depth = config.max_depth;
@@ -156,8 +156,9 @@ int FusionServer::run() {
   }
   publishStatus();
   const auto s = snapshot();
-  spdlog::info("frames: {} received, {} integrated, {} lost; segmentations: {} received, {} integrated", s.frames_received,
-               s.frames_integrated, s.frames_lost, s.segmentations_received, s.segmentations_integrated);
+  spdlog::info("frames: {} received, {} integrated, {} lost; segmentations: {} received, {} integrated",
+               s.frames_received, s.frames_integrated, s.frames_lost, s.segmentations_received,
+               s.segmentations_integrated);
   return exit_code;
 }
 

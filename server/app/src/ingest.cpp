@@ -63,9 +63,8 @@ void Ingest::run() {
       if (!n.ok() || n.value() == 0) break;
     }
     for (;;) {
-      auto n = frame_reader_.takeLoaned(4, [this](const semfuse_msg_dds__Frame_& msg, const dds_sample_info_t&) {
-        onFrame(msg);
-      });
+      auto n = frame_reader_.takeLoaned(
+          4, [this](const semfuse_msg_dds__Frame_& msg, const dds_sample_info_t&) { onFrame(msg); });
       if (!n.ok() || n.value() == 0) break;
     }
   }
@@ -90,8 +89,8 @@ void Ingest::onFrame(const semfuse_msg_dds__Frame_& msg) {
 void Ingest::onSegmentation(const semfuse_msg_dds__Segmentation_& msg) {
   ++state_.segmentations_received;
   const std::string camera = msg.camera_id ? msg.camera_id : "";
-  const std::string source =
-      "segmentation " + std::string(msg.segmenter_id ? msg.segmenter_id : "") + " of " + idOf(msg.camera_id, msg.frame_seq);
+  const std::string source = "segmentation " + std::string(msg.segmenter_id ? msg.segmenter_id : "") + " of " +
+                             idOf(msg.camera_id, msg.frame_seq);
   auto segmentation = wire::decodeSegmentation(msg);
   if (!segmentation.ok()) {
     state_.reject(reason::kInvalidSegmentation, camera, source, segmentation.error());

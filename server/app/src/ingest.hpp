@@ -8,13 +8,13 @@
 
 #include "frame_queue.hpp"
 #include "fusion_loop.hpp"
+#include "msg.h"
 #include "semfuse/core/legend.hpp"
 #include "semfuse/dds/participant.hpp"
 #include "semfuse/dds/reader.hpp"
 #include "semfuse/dds/topic.hpp"
 #include "semfuse/dds/waitset.hpp"
 #include "server_state.hpp"
-#include "msg.h"
 
 namespace semfuse::server {
 

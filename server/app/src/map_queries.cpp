@@ -56,10 +56,8 @@ RegionSummary summarizeRegion(const volume::LabeledVolume& volume, const Eigen::
     const volume::VoxelValue v = volume::unpackVoxel(*it);
     if (v.weight <= 0.0f) continue;
     ++summary.observed_voxels;
-    if (v.tsdf < 0.0f)
-      ++summary.occupied_voxels;
-    else
-      ++summary.free_voxels;
+    if (v.tsdf < 0.0f) ++summary.occupied_voxels;
+    else ++summary.free_voxels;
     if (isSurface(v, voxel)) {
       auto& area = summary.labels[v.label];
       ++area.surface_voxels;
@@ -71,8 +69,8 @@ RegionSummary summarizeRegion(const volume::LabeledVolume& volume, const Eigen::
   return summary;
 }
 
-std::vector<ObjectInstance> findObjects(const volume::LabeledVolume& volume, const LabelLegend& legend,
-                                        LabelId label, uint64_t min_voxels) {
+std::vector<ObjectInstance> findObjects(const volume::LabeledVolume& volume, const LabelLegend& legend, LabelId label,
+                                        uint64_t min_voxels) {
   const double voxel = volume.voxelSize();
   // Surface voxels of the requested label(s), then flood fill over 26-neighbours.
   std::unordered_map<openvdb::Coord, std::pair<LabelId, float>, CoordHash> surface;

@@ -50,7 +50,7 @@ struct ObjectInstance {
 };
 // Connected (26-neighbourhood) sets of surface voxels sharing one label; label 0 = every label
 // (except unlabeled and background). Largest first; those smaller than min_voxels are left out.
-std::vector<ObjectInstance> findObjects(const volume::LabeledVolume& volume, const LabelLegend& legend,
-                                        LabelId label, uint64_t min_voxels);
+std::vector<ObjectInstance> findObjects(const volume::LabeledVolume& volume, const LabelLegend& legend, LabelId label,
+                                        uint64_t min_voxels);
 
 }  // namespace semfuse::server

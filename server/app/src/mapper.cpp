@@ -20,10 +20,14 @@ namespace {
 PoseState poseStateOf(tracking::TrackingStatus status) {
   switch (status) {
     case tracking::TrackingStatus::kInitialized:
-    case tracking::TrackingStatus::kGivenPose: return PoseState::kGiven;
-    case tracking::TrackingStatus::kRefined: return PoseState::kRefined;
-    case tracking::TrackingStatus::kTracked: return PoseState::kTracked;
-    case tracking::TrackingStatus::kLost: break;
+    case tracking::TrackingStatus::kGivenPose:
+      return PoseState::kGiven;
+    case tracking::TrackingStatus::kRefined:
+      return PoseState::kRefined;
+    case tracking::TrackingStatus::kTracked:
+      return PoseState::kTracked;
+    case tracking::TrackingStatus::kLost:
+      break;
   }
   return PoseState::kLost;
 }
@@ -46,8 +50,8 @@ Result<tracking::TrackedFrame> Mapper::choosePose(const Frame& frame, FrameOutco
   }
   // Work on a copy: a frame the tracker rejects as malformed must leave the camera's state alone.
   tracking::CameraTrackState state = known == cameras_.end() ? tracking::CameraTrackState{} : known->second;
-  const auto policy = options_.refine_given_poses ? tracking::GivenPosePolicy::kRefine
-                                                  : tracking::GivenPosePolicy::kUseAsIs;
+  const auto policy =
+      options_.refine_given_poses ? tracking::GivenPosePolicy::kRefine : tracking::GivenPosePolicy::kUseAsIs;
   const auto start = std::chrono::steady_clock::now();
   Result<tracking::TrackedFrame> tracked = tracking::TrackedFrame{};
   {
@@ -92,7 +96,7 @@ Result<FrameOutcome> Mapper::integrateFrame(const Frame& frame, const Segmentati
 }
 
 Result<volume::IntegrationStats> Mapper::integrateSegmentation(const HistoryEntry& frame,
-                                                                const Segmentation& segmentation) {
+                                                               const Segmentation& segmentation) {
   std::unique_lock lock(mutex_);
   auto stats = volume::integrateLabels(volume_, frame.depth, segmentation.labels, segmentation.confidence,
                                        frame.intrinsics, frame.camera_to_world);
@@ -113,9 +117,9 @@ Status Mapper::load(const std::filesystem::path& path) {
   const auto& mine = options_.volume;
   if (std::abs(params.voxel_size - mine.voxel_size) > 1e-9 || std::abs(params.truncation - mine.truncation) > 1e-9)
     return makeError(path.string() + ": map has voxel size " + std::to_string(params.voxel_size) +
-                     " m and truncation " + std::to_string(params.truncation) +
-                     " m; this server runs with " + std::to_string(mine.voxel_size) + " m / " +
-                     std::to_string(mine.truncation) + " m (start it with the map's values)");
+                     " m and truncation " + std::to_string(params.truncation) + " m; this server runs with " +
+                     std::to_string(mine.voxel_size) + " m / " + std::to_string(mine.truncation) +
+                     " m (start it with the map's values)");
   if (params.label_rule != mine.label_rule)
     return makeError(path.string() + ": map fuses labels with the '" + volume::labelRuleName(params.label_rule) +
                      "' rule; this server runs '" + volume::labelRuleName(mine.label_rule) +

@@ -53,8 +53,7 @@ class Mapper {
   // Fusion thread only. Errors: bad input (sizes, intrinsics) or a camera whose first frame
   // has no pose while the map already has content (it could not be placed in the world frame).
   Result<FrameOutcome> integrateFrame(const Frame& frame, const Segmentation* segmentation = nullptr);
-  Result<volume::IntegrationStats> integrateSegmentation(const HistoryEntry& frame,
-                                                          const Segmentation& segmentation);
+  Result<volume::IntegrationStats> integrateSegmentation(const HistoryEntry& frame, const Segmentation& segmentation);
 
   // Runs `fn(volume)` under the shared lock: for quick reads (sizes, a few voxels).
   template <class Fn>
@@ -99,7 +98,7 @@ class Mapper {
   mutable std::shared_mutex mutex_;
   volume::LabeledVolume volume_;
   std::map<std::string, tracking::CameraTrackState> cameras_;  // fusion thread only
-  uint64_t revision_ = 0;                        // guarded by mutex_
+  uint64_t revision_ = 0;                                      // guarded by mutex_
 
   mutable std::mutex snapshot_mutex_;  // one copy at a time; guards the two below
   mutable std::shared_ptr<const volume::LabeledVolume> snapshot_;

@@ -15,8 +15,7 @@ class PendingSegmentations {
  public:
   using Clock = std::chrono::steady_clock;
 
-  PendingSegmentations(size_t capacity, std::chrono::milliseconds timeout)
-      : capacity_(capacity), timeout_(timeout) {}
+  PendingSegmentations(size_t capacity, std::chrono::milliseconds timeout) : capacity_(capacity), timeout_(timeout) {}
 
   // Adds one; returns the segmentation evicted because the set was full, if any.
   std::vector<Segmentation> add(Segmentation segmentation, Clock::time_point now = Clock::now());

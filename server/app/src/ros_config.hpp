@@ -13,10 +13,10 @@ struct RosIngestConfig {
   std::string camera_id = "ros";  // the semfuse camera these topics feed
 
   // ROS topic names (the DDS topic is "rt" + name). An empty name is not subscribed.
-  std::string depth_topic = "/camera/depth/image_raw";               // sensor_msgs/Image 16UC1 (mm) or 32FC1 (m)
-  std::string camera_info_topic = "/camera/depth/camera_info";       // intrinsics of the depth image
-  std::string color_topic = "/camera/color/image_raw";               // sensor_msgs/Image rgb8/bgr8, same size as depth
-  std::string compressed_color_topic;                                // sensor_msgs/CompressedImage jpeg/png
+  std::string depth_topic = "/camera/depth/image_raw";          // sensor_msgs/Image 16UC1 (mm) or 32FC1 (m)
+  std::string camera_info_topic = "/camera/depth/camera_info";  // intrinsics of the depth image
+  std::string color_topic = "/camera/color/image_raw";          // sensor_msgs/Image rgb8/bgr8, same size as depth
+  std::string compressed_color_topic;                           // sensor_msgs/CompressedImage jpeg/png
   std::string tf_topic = "/tf";
   std::string tf_static_topic = "/tf_static";
 
@@ -24,7 +24,7 @@ struct RosIngestConfig {
   // header.frame_id unless camera_frame names one (an optical frame: x right, y down, z forward).
   std::string world_frame = "map";
   std::string camera_frame;
-  bool use_tf = true;        // false: every frame is tracked by the server, /tf is ignored
+  bool use_tf = true;  // false: every frame is tracked by the server, /tf is ignored
 
   // Pairing and waiting (seconds).
   double pair_tolerance_s = 0.02;  // largest |depth stamp - colour stamp| of a pair

@@ -13,8 +13,8 @@ double secondsBetween(Stamp a, Stamp b) {
 }  // namespace
 
 std::optional<RosFrameAssembler::Drop> RosFrameAssembler::addDepth(uint64_t seq, Stamp stamp,
-                                                                  const std::string& frame_id, cv::Mat depth,
-                                                                  Clock::time_point now) {
+                                                                   const std::string& frame_id, cv::Mat depth,
+                                                                   Clock::time_point now) {
   std::optional<Drop> dropped;
   if (depth_.size() >= options_.pending_depth) {
     dropped = Drop{ros_reason::kDepthQueueFull, depth_.front().seq,
@@ -107,7 +107,8 @@ RosFrameAssembler::Step RosFrameAssembler::advance(PendingDepth& d, bool timed_o
       return Step::kWait;
     } else if (!had_world_pose_) {
       // Tracking from nothing would start a world frame of its own that tf poses contradict later.
-      drops.push_back({ros_reason::kNoTf, d.seq, fmt::format("no world pose within {:.2f} s: {}", waited, pose.error())});
+      drops.push_back(
+          {ros_reason::kNoTf, d.seq, fmt::format("no world pose within {:.2f} s: {}", waited, pose.error())});
       return Step::kDone;
     }  // else: integrated without a pose, tracked from this camera's last one
   }

@@ -22,10 +22,10 @@ namespace semfuse::server {
 // Reasons (in ServerStatus, beside the native ones) for ROS inputs given up before fusion.
 namespace ros_reason {
 inline constexpr const char* kDepthQueueFull = "ros_depth_queue_full";  // too many depth images waiting
-inline constexpr const char* kNoColor = "ros_no_color";                // no colour within the stamp tolerance
-inline constexpr const char* kColorUnpaired = "ros_color_unpaired";    // colour image no depth image took
-inline constexpr const char* kNoCameraInfo = "ros_no_camera_info";     // no CameraInfo received yet
-inline constexpr const char* kNoTf = "ros_no_tf";                      // no world pose and none before to track from
+inline constexpr const char* kNoColor = "ros_no_color";                 // no colour within the stamp tolerance
+inline constexpr const char* kColorUnpaired = "ros_color_unpaired";     // colour image no depth image took
+inline constexpr const char* kNoCameraInfo = "ros_no_camera_info";      // no CameraInfo received yet
+inline constexpr const char* kNoTf = "ros_no_tf";                       // no world pose and none before to track from
 }  // namespace ros_reason
 
 class RosFrameAssembler {

@@ -80,15 +80,16 @@ RosIngest::RosIngest(const dds::Participant& participant, const RosIngestConfig&
   const dds::Qos sensor = dds::qos::sensorData();
   depth_ = std::make_unique<Input<sensor_msgs_msg_dds__Image_>>(participant, config_.depth_topic, sensor);
   waitset_.attach(depth_->ready.handle());
-  camera_info_ = std::make_unique<Input<sensor_msgs_msg_dds__CameraInfo_>>(participant, config_.camera_info_topic, sensor);
+  camera_info_ =
+      std::make_unique<Input<sensor_msgs_msg_dds__CameraInfo_>>(participant, config_.camera_info_topic, sensor);
   waitset_.attach(camera_info_->ready.handle());
   if (!config_.color_topic.empty()) {
     color_ = std::make_unique<Input<sensor_msgs_msg_dds__Image_>>(participant, config_.color_topic, sensor);
     waitset_.attach(color_->ready.handle());
   }
   if (!config_.compressed_color_topic.empty()) {
-    compressed_color_ =
-        std::make_unique<Input<sensor_msgs_msg_dds__CompressedImage_>>(participant, config_.compressed_color_topic, sensor);
+    compressed_color_ = std::make_unique<Input<sensor_msgs_msg_dds__CompressedImage_>>(
+        participant, config_.compressed_color_topic, sensor);
     waitset_.attach(compressed_color_->ready.handle());
   }
   if (config_.use_tf && !config_.tf_topic.empty()) {
@@ -96,7 +97,8 @@ RosIngest::RosIngest(const dds::Participant& participant, const RosIngestConfig&
     waitset_.attach(tf_in_->ready.handle());
   }
   if (config_.use_tf && !config_.tf_static_topic.empty()) {
-    tf_static_in_ = std::make_unique<Input<tf2_msgs_msg_dds__TFMessage_>>(participant, config_.tf_static_topic, tfStaticQos());
+    tf_static_in_ =
+        std::make_unique<Input<tf2_msgs_msg_dds__TFMessage_>>(participant, config_.tf_static_topic, tfStaticQos());
     waitset_.attach(tf_static_in_->ready.handle());
   }
   waitset_.attach(stop_.handle());
@@ -250,8 +252,8 @@ void RosIngest::publishPose(const Frame& frame, const FrameOutcome& outcome) {
   if (!outcome.integrated || config_.publish_tf == "none") return;
   if (config_.publish_tf == "tracked" && outcome.pose_state == PoseState::kGiven) return;
   const std::string child = !config_.tf_child_frame.empty() ? config_.tf_child_frame
-                            : !frame.frame_id.empty()        ? frame.frame_id
-                                                             : frame.camera_id;
+                            : !frame.frame_id.empty()       ? frame.frame_id
+                                                            : frame.camera_id;
   auto transform = wire::transformFromPose(outcome.camera_to_world, frame.stamp, config_.world_frame, child);
   tf2_msgs_msg_dds__TFMessage_ msg{};
   msg.transforms._buffer = &transform.msg();

@@ -19,8 +19,8 @@
 #include "semfuse/dds/topic.hpp"
 #include "semfuse/dds/waitset.hpp"
 #include "semfuse/dds/writer.hpp"
-#include "server_state.hpp"
 #include "sensor_msgs.h"
+#include "server_state.hpp"
 #include "tf2_msgs.h"
 
 namespace semfuse::server {
@@ -28,8 +28,7 @@ namespace semfuse::server {
 class RosIngest {
  public:
   // Throws std::runtime_error on an unusable configuration (empty depth topic, no world frame).
-  RosIngest(const dds::Participant& participant, const RosIngestConfig& config, FrameQueue& frames,
-            ServerState& state);
+  RosIngest(const dds::Participant& participant, const RosIngestConfig& config, FrameQueue& frames, ServerState& state);
   ~RosIngest();
 
   void start();

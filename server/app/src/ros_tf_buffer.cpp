@@ -34,8 +34,8 @@ Status TfBuffer::add(const std::string& parent, const std::string& child, const 
     return {};
   }
   // Usually in order; an out-of-order sample is inserted where it belongs.
-  auto at = std::upper_bound(edge.samples.begin(), edge.samples.end(), t,
-                             [](double v, const Sample& s) { return v < s.t; });
+  auto at =
+      std::upper_bound(edge.samples.begin(), edge.samples.end(), t, [](double v, const Sample& s) { return v < s.t; });
   edge.samples.insert(at, {t, parent_T_child});
   const double newest = edge.samples.back().t;
   while (edge.samples.size() > 2 && edge.samples.front().t < newest - history_s_) edge.samples.pop_front();

@@ -21,7 +21,7 @@ struct ServerConfig {
   double voxel_size = 0.01;
   double truncation = 0.04;
   float max_weight = 64.0f;
-  float max_label_score = 0.0f;  // 0 = the volume library's default W_clamp
+  float max_label_score = 0.0f;      // 0 = the volume library's default W_clamp
   std::string label_rule = "bayes";  // label fusion rule; the winner of docs/eval (paper's: evidence)
   float min_depth = 0.1f;
   float max_depth = 5.0f;
@@ -30,7 +30,7 @@ struct ServerConfig {
   std::vector<uint16_t> background_labels;
 
   // Persistence
-  std::string map_file;       // resume from it, autosave to it
+  std::string map_file;  // resume from it, autosave to it
   double autosave_period_s = 30.0;
 
   // Ingest limits

@@ -37,10 +37,8 @@ void ServerState::frameProcessed(const std::string& camera_id, bool integrated, 
   std::lock_guard lock(mutex_);
   CameraActivity& camera = cameras_[camera_id];
   camera.tracking_state = tracking_state;
-  if (integrated)
-    ++camera.frames_integrated;
-  else
-    ++camera.frames_lost;
+  if (integrated) ++camera.frames_integrated;
+  else ++camera.frames_lost;
   touch();
 }
 

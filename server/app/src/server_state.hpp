@@ -16,22 +16,22 @@ namespace semfuse::server {
 // Reasons under which inputs are dropped (accepted, then given up for capacity or time) or
 // rejected (malformed or inconsistent). They appear verbatim in ServerStatus.
 namespace reason {
-inline constexpr const char* kQueueFull = "queue_full";                    // drop: newer frame came
+inline constexpr const char* kQueueFull = "queue_full";  // drop: newer frame came
 // Frames the ingest never saw, from gaps in a camera's sequence numbers: lost on the network or
 // overwritten in the DDS reader's history (or skipped on purpose by the camera, e.g. a stride).
 inline constexpr const char* kSequenceGap = "sequence_gap";
-inline constexpr const char* kPendingFull = "pending_full";                // drop: too many waiting
+inline constexpr const char* kPendingFull = "pending_full";                  // drop: too many waiting
 inline constexpr const char* kSegmentationTimeout = "segmentation_timeout";  // drop: frame never came
-inline constexpr const char* kTrackingLost = "tracking_lost";              // frame not integrated
+inline constexpr const char* kTrackingLost = "tracking_lost";                // frame not integrated
 inline constexpr const char* kInvalidFrame = "invalid_frame";
 inline constexpr const char* kInvalidSegmentation = "invalid_segmentation";
 inline constexpr const char* kLabelOutOfLegend = "label_out_of_legend";
 inline constexpr const char* kUnknownCamera = "unknown_camera";
-inline constexpr const char* kUnknownFrame = "unknown_frame";      // evicted, lost, or never seen
-inline constexpr const char* kSizeMismatch = "size_mismatch";      // segmentation larger than frame
+inline constexpr const char* kUnknownFrame = "unknown_frame";  // evicted, lost, or never seen
+inline constexpr const char* kSizeMismatch = "size_mismatch";  // segmentation larger than frame
 inline constexpr const char* kNoPose = "first_frame_without_pose";
 inline constexpr const char* kIntegrationFailed = "integration_failed";
-inline constexpr const char* kInvalidQuery = "invalid_query";     // a query the server refused
+inline constexpr const char* kInvalidQuery = "invalid_query";  // a query the server refused
 }  // namespace reason
 
 struct CameraActivity {
@@ -59,8 +59,7 @@ class ServerState {
   std::atomic<uint64_t> segmentations_integrated{0};
 
   // Records a rejection: counter + error log + one warning line.
-  void reject(const char* why, const std::string& camera_id, const std::string& source,
-              const std::string& message);
+  void reject(const char* why, const std::string& camera_id, const std::string& source, const std::string& message);
 
   void frameArrived(const std::string& camera_id, uint64_t seq, Clock::time_point now = Clock::now());
   void frameProcessed(const std::string& camera_id, bool integrated, uint8_t tracking_state);

@@ -1,8 +1,8 @@
 #include "services.hpp"
 
+#include <spdlog/spdlog.h>
 #include <algorithm>
 #include <functional>
-#include <spdlog/spdlog.h>
 
 #include "map_queries.hpp"
 #include "semfuse/dds/topics.hpp"
@@ -46,19 +46,27 @@ std::function<void(const Request&, Reply&)> onServiceThread(Services* services,
 }
 }  // namespace
 
-Services::Services(const dds::Participant& participant, const ServerConfig& config, Mapper& mapper,
-                   FusionLoop& fusion, ServerState& state, SnapshotFn snapshot, SaveFn save)
-    : config_(config), mapper_(mapper), fusion_(fusion), state_(state), snapshot_(std::move(snapshot)),
+Services::Services(const dds::Participant& participant, const ServerConfig& config, Mapper& mapper, FusionLoop& fusion,
+                   ServerState& state, SnapshotFn snapshot, SaveFn save)
+    : config_(config),
+      mapper_(mapper),
+      fusion_(fusion),
+      state_(state),
+      snapshot_(std::move(snapshot)),
       save_(std::move(save)) {
   namespace topics = dds::topics;
-  raycast_server_ = std::make_unique<dds::RpcServer<semfuse_srv_dds__Raycast_Request_, semfuse_srv_dds__Raycast_Response_>>(
-      participant, topics::raycast(), onServiceThread(this, &Services::raycast));
-  labels_at_server_ = std::make_unique<dds::RpcServer<semfuse_srv_dds__LabelsAt_Request_, semfuse_srv_dds__LabelsAt_Response_>>(
-      participant, topics::labelsAt(), onServiceThread(this, &Services::labelsAt));
-  region_server_ = std::make_unique<dds::RpcServer<semfuse_srv_dds__Region_Request_, semfuse_srv_dds__Region_Response_>>(
-      participant, topics::region(), onServiceThread(this, &Services::region));
-  objects_server_ = std::make_unique<dds::RpcServer<semfuse_srv_dds__Objects_Request_, semfuse_srv_dds__Objects_Response_>>(
-      participant, topics::objects(), onServiceThread(this, &Services::objects));
+  raycast_server_ =
+      std::make_unique<dds::RpcServer<semfuse_srv_dds__Raycast_Request_, semfuse_srv_dds__Raycast_Response_>>(
+          participant, topics::raycast(), onServiceThread(this, &Services::raycast));
+  labels_at_server_ =
+      std::make_unique<dds::RpcServer<semfuse_srv_dds__LabelsAt_Request_, semfuse_srv_dds__LabelsAt_Response_>>(
+          participant, topics::labelsAt(), onServiceThread(this, &Services::labelsAt));
+  region_server_ =
+      std::make_unique<dds::RpcServer<semfuse_srv_dds__Region_Request_, semfuse_srv_dds__Region_Response_>>(
+          participant, topics::region(), onServiceThread(this, &Services::region));
+  objects_server_ =
+      std::make_unique<dds::RpcServer<semfuse_srv_dds__Objects_Request_, semfuse_srv_dds__Objects_Response_>>(
+          participant, topics::objects(), onServiceThread(this, &Services::objects));
   mesh_server_ = std::make_unique<dds::RpcServer<semfuse_srv_dds__Mesh_Request_, semfuse_srv_dds__Mesh_Response_>>(
       participant, topics::mesh(), onServiceThread(this, &Services::mesh));
   admin_server_ = std::make_unique<dds::RpcServer<semfuse_srv_dds__Admin_Request_, semfuse_srv_dds__Admin_Response_>>(
@@ -76,7 +84,9 @@ void Services::refuse(Reply& reply, int32_t code, const std::string& service, co
 void Services::raycast(const semfuse_srv_dds__Raycast_Request_& request, semfuse_srv_dds__Raycast_Response_& reply) {
   PinholeIntrinsics intrinsics{static_cast<int>(std::min<uint32_t>(request.intrinsics.width, 1u << 30)),
                                static_cast<int>(std::min<uint32_t>(request.intrinsics.height, 1u << 30)),
-                               request.intrinsics.fx, request.intrinsics.fy, request.intrinsics.cx,
+                               request.intrinsics.fx,
+                               request.intrinsics.fy,
+                               request.intrinsics.cx,
                                request.intrinsics.cy};
   const uint64_t pixels = static_cast<uint64_t>(request.intrinsics.width) * request.intrinsics.height;
   if (pixels > config_.max_raycast_pixels)
@@ -88,17 +98,17 @@ void Services::raycast(const semfuse_srv_dds__Raycast_Request_& request, semfuse
   const Pose pose = wire::poseFromRowMajor(request.camera_to_world);
   if (Status ok = wire::validatePose(pose); !ok) return refuse(reply, kInvalid, "raycast", ok.error());
   if (request.layers == 0 || request.layers > render::kAllLayers)
-    return refuse(reply, kInvalid, "raycast", "layers must be a non-empty combination of LAYER_* bits (1..31), got " +
-                                                  std::to_string(request.layers));
+    return refuse(
+        reply, kInvalid, "raycast",
+        "layers must be a non-empty combination of LAYER_* bits (1..31), got " + std::to_string(request.layers));
 
   render::RaycastOptions options;
   options.layers = request.layers;
   if (std::isfinite(request.max_range) && request.max_range > 0.0f) options.max_depth = request.max_range;
   // Copy the leaves in view under the map's shared lock (a few ms, where a snapshot of the whole
   // map took tens while cameras stream), render from the copy without the lock.
-  auto prepared = mapper_.read([&](const volume::LabeledVolume& volume) {
-    return render::prepareRaycast(volume, intrinsics, pose, options);
-  });
+  auto prepared = mapper_.read(
+      [&](const volume::LabeledVolume& volume) { return render::prepareRaycast(volume, intrinsics, pose, options); });
   if (!prepared.ok()) return refuse(reply, kInvalid, "raycast", prepared.error());
   auto images = render::raycast(std::move(prepared.value()));
   if (!images.ok()) return refuse(reply, kInvalid, "raycast", images.error());
@@ -111,12 +121,11 @@ void Services::raycast(const semfuse_srv_dds__Raycast_Request_& request, semfuse
   dds::setReplyStatus(reply, kOk, "");
 }
 
-void Services::labelsAt(const semfuse_srv_dds__LabelsAt_Request_& request,
-                        semfuse_srv_dds__LabelsAt_Response_& reply) {
+void Services::labelsAt(const semfuse_srv_dds__LabelsAt_Request_& request, semfuse_srv_dds__LabelsAt_Response_& reply) {
   if (request.points._length > kMaxPointsPerQuery)
-    return refuse(reply, kTooLarge, "labels_at",
-                  std::to_string(request.points._length) + " points exceed the limit of " +
-                      std::to_string(kMaxPointsPerQuery));
+    return refuse(
+        reply, kTooLarge, "labels_at",
+        std::to_string(request.points._length) + " points exceed the limit of " + std::to_string(kMaxPointsPerQuery));
   std::vector<Eigen::Vector3d> points;
   points.reserve(request.points._length);
   for (uint32_t i = 0; i < request.points._length; ++i) points.push_back(toEigen(request.points._buffer[i]));
@@ -134,7 +143,8 @@ void Services::region(const semfuse_srv_dds__Region_Request_& request, semfuse_s
   auto summary = summarizeRegion(*mapper_.snapshot(), min, max);
   dds::resizeSequence(reply.histogram, summary.labels.size());
   size_t i = 0;
-  for (const auto& [label, area] : summary.labels) reply.histogram._buffer[i++] = {label, area.surface_voxels, area.area_m2};
+  for (const auto& [label, area] : summary.labels)
+    reply.histogram._buffer[i++] = {label, area.surface_voxels, area.area_m2};
   reply.observed_voxels = summary.observed_voxels;
   reply.occupied_voxels = summary.occupied_voxels;
   reply.free_voxels = summary.free_voxels;
@@ -196,8 +206,9 @@ void Services::mesh(const semfuse_srv_dds__Mesh_Request_& request, semfuse_srv_d
   const size_t chunk = std::max<uint32_t>(config_.mesh_chunk_bytes, 1024);
   const uint32_t chunks = static_cast<uint32_t>(std::max<size_t>(1, (ply->size() + chunk - 1) / chunk));
   if (request.chunk_index >= chunks) {
-    dds::setReplyStatus(reply, kInvalid,
-                        "chunk " + std::to_string(request.chunk_index) + " of a mesh with " + std::to_string(chunks) + " chunks");
+    dds::setReplyStatus(
+        reply, kInvalid,
+        "chunk " + std::to_string(request.chunk_index) + " of a mesh with " + std::to_string(chunks) + " chunks");
     return;
   }
   const size_t begin = static_cast<size_t>(request.chunk_index) * chunk;
@@ -232,12 +243,17 @@ void Services::admin(const semfuse_srv_dds__Admin_Request_& request, semfuse_srv
       break;
     }
     case semfuse_srv_dds__Admin_Request_Constants_RESET:
-      result = fusion_.runOnFusionThread([this] { mapper_.reset(); return Status::Ok(); }, 60s);
+      result = fusion_.runOnFusionThread(
+          [this] {
+            mapper_.reset();
+            return Status::Ok();
+          },
+          60s);
       done = "map reset";
       break;
     default:
-      return refuse(reply, kInvalid, "admin", "unknown admin command " + std::to_string(request.command) +
-                                                  " (0 stats, 1 save, 2 load, 3 reset)");
+      return refuse(reply, kInvalid, "admin",
+                    "unknown admin command " + std::to_string(request.command) + " (0 stats, 1 save, 2 load, 3 reset)");
   }
   if (!result.ok()) {
     dds::setReplyStatus(reply, kUnavailable, result.error());

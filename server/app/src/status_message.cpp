@@ -1,8 +1,8 @@
 #include "status_message.hpp"
 
+#include <unistd.h>
 #include <chrono>
 #include <fstream>
-#include <unistd.h>
 
 #include "semfuse/dds/sample.hpp"
 #include "semfuse/wire/frame_codec.hpp"

@@ -2,8 +2,8 @@
 // The wire form of ServerStatus (semfuse/core/server_status.hpp): published on rt/semfuse/status
 // and returned by the admin service.
 #include <cstdint>
-#include "semfuse/core/server_status.hpp"
 #include "msg.h"
+#include "semfuse/core/server_status.hpp"
 
 namespace semfuse::server {
 

@@ -66,7 +66,8 @@ Status Experiments::diagnosis(const std::vector<double>& pixel_noise) {
       }
     }
     for (double p : pixel_noise)
-      if (bayes_is_majority) diagnosis_[{dataset.name, LabelRule::kBayes, p}] = diagnosis_[{dataset.name, LabelRule::kMajority, p}];
+      if (bayes_is_majority)
+        diagnosis_[{dataset.name, LabelRule::kBayes, p}] = diagnosis_[{dataset.name, LabelRule::kMajority, p}];
     for (volume::LabelRule rule : options_.rules)
       for (double p : pixel_noise)
         for (const DiagnosisBin& b : diagnosis_[{dataset.name, rule, p}].bins)

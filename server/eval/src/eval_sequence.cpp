@@ -5,8 +5,8 @@
 #include <cstdio>
 #include <set>
 
-#include <opencv2/imgcodecs.hpp>
 #include <spdlog/spdlog.h>
+#include <opencv2/imgcodecs.hpp>
 
 #include "dnn_segmenter.hpp"
 #include "semfuse/datasets/seven_scenes.hpp"
@@ -96,8 +96,7 @@ Result<std::vector<Segmentation>> segmentFrames(
   if (computed > 0)
     spdlog::info("{}: {} frames segmented, {:.2f} s per frame (wall, this machine's load included); {} from the cache",
                  stem, computed, network_seconds / static_cast<double>(computed), indices.size() - computed);
-  else
-    spdlog::info("{}: all {} frames from the cache", stem, indices.size());
+  else spdlog::info("{}: all {} frames from the cache", stem, indices.size());
   return out;
 }
 
@@ -165,8 +164,9 @@ Result<volume::LabeledVolume> integrateGeometry(const EvalSequence& sequence, co
   return volume;
 }
 
-Result<EvalSequence> loadSevenScenes(const SevenScenesOptions& options, const fs::path& cache,
-                                     const std::function<void(const std::string&, std::size_t, std::size_t)>& on_progress) {
+Result<EvalSequence> loadSevenScenes(
+    const SevenScenesOptions& options, const fs::path& cache,
+    const std::function<void(const std::string&, std::size_t, std::size_t)>& on_progress) {
   if (options.stride < 1 || options.network_stride < 1 || options.network_stride % options.stride != 0)
     return makeError("strides must be at least 1 and the network stride a multiple of the frame stride");
   auto reader = datasets::SevenScenesReader::open(options.folder);
@@ -174,7 +174,8 @@ Result<EvalSequence> loadSevenScenes(const SevenScenesOptions& options, const fs
   const std::size_t count = std::min<std::size_t>(reader.value().count(), static_cast<std::size_t>(options.frames));
   std::vector<std::size_t> indices, network_indices;
   for (std::size_t i = 0; i < count; i += static_cast<std::size_t>(options.stride)) indices.push_back(i);
-  for (std::size_t i = 0; i < count; i += static_cast<std::size_t>(options.network_stride)) network_indices.push_back(i);
+  for (std::size_t i = 0; i < count; i += static_cast<std::size_t>(options.network_stride))
+    network_indices.push_back(i);
   // Position of dataset frame i in `frames` (i is a multiple of the stride).
   auto position = [&](std::size_t i) { return i / static_cast<std::size_t>(options.stride); };
 
@@ -192,11 +193,13 @@ Result<EvalSequence> loadSevenScenes(const SevenScenesOptions& options, const fs
   fs::create_directories(folder, error);
   if (error) return makeError("cannot create " + folder.string() + ": " + error.message());
 
-  auto reference_labels = segmentFrames(reader.value(), network_indices,
-                                        options.models / "ade20k_deeplabv3_mnv2_513_logits.pb", 513, folder, on_progress);
+  auto reference_labels =
+      segmentFrames(reader.value(), network_indices, options.models / "ade20k_deeplabv3_mnv2_513_logits.pb", 513,
+                    folder, on_progress);
   if (!reference_labels) return makeError(reference_labels.error());
-  auto segmenter_labels = segmentFrames(reader.value(), network_indices,
-                                        options.models / "ade20k_deeplabv3_mnv2_257_logits.pb", 257, folder, on_progress);
+  auto segmenter_labels =
+      segmentFrames(reader.value(), network_indices, options.models / "ade20k_deeplabv3_mnv2_257_logits.pb", 257,
+                    folder, on_progress);
   if (!segmenter_labels) return makeError(segmenter_labels.error());
   out.segmentations.resize(indices.size());  // empty where the networks did not run
   for (std::size_t k = 0; k < network_indices.size(); ++k)
@@ -215,8 +218,8 @@ Result<EvalSequence> loadSevenScenes(const SevenScenesOptions& options, const fs
   for (std::size_t k = 0; k < network_indices.size(); ++k) {
     const Segmentation& s = reference_labels.value()[k];
     const EvalFrame& frame = out.frames[position(network_indices[k])];
-    auto stats = volume::integrateLabels(reference, frame.depth, s.labels, s.confidence, out.intrinsics,
-                                         frame.camera_to_world);
+    auto stats =
+        volume::integrateLabels(reference, frame.depth, s.labels, s.confidence, out.intrinsics, frame.camera_to_world);
     if (!stats) return makeError(stats.error());
   }
   render::RaycastOptions raycast_options;

@@ -33,10 +33,10 @@ struct EvalSequence {
   std::string name;
   PinholeIntrinsics intrinsics;
   std::vector<EvalFrame> frames;
-  std::vector<cv::Mat> truth;                 // CV_16UC1 per frame, 0 = unlabeled
-  std::vector<Segmentation> segmentations;    // a real segmenter's output per frame (7scenes only;
-                                              // empty labels where it did not run)
-  std::vector<LabelId> present_labels;        // labels in `truth`: the noise models' wrong labels
+  std::vector<cv::Mat> truth;               // CV_16UC1 per frame, 0 = unlabeled
+  std::vector<Segmentation> segmentations;  // a real segmenter's output per frame (7scenes only;
+                                            // empty labels where it did not run)
+  std::vector<LabelId> present_labels;      // labels in `truth`: the noise models' wrong labels
   // 7scenes: the fused reference labeling whose raycasts are `truth` (experiment 3 scores
   // the real segmenter against it).
   std::shared_ptr<const volume::LabeledVolume> reference_labeling;
@@ -45,27 +45,28 @@ struct EvalSequence {
 struct SyntheticOptions {
   std::string name = "synthetic";
   int frames = 120;
-  double scale = 0.5;     // of the 640x480 Kinect-like camera
+  double scale = 0.5;      // of the 640x480 Kinect-like camera
   double phase_rad = 0.0;  // trajectory variants
   double radius = 1.6;
   double height = 1.4;
-  uint64_t seed = 1;       // depth noise
+  uint64_t seed = 1;  // depth noise
 };
 
 Result<EvalSequence> loadSynthetic(const SyntheticOptions& options, const std::filesystem::path& cache);
 
 struct SevenScenesOptions {
-  std::filesystem::path folder;       // 7-Scenes sequence folder
-  std::filesystem::path models;       // folder with the ADE20K DeepLab .pb files
+  std::filesystem::path folder;  // 7-Scenes sequence folder
+  std::filesystem::path models;  // folder with the ADE20K DeepLab .pb files
   int frames = 500;
-  int stride = 1;          // frames integrated and fused
-  int network_stride = 4;  // frames the networks segment: a multiple of stride
-  volume::VolumeParams params;        // geometry of the reference labeling
+  int stride = 1;               // frames integrated and fused
+  int network_stride = 4;       // frames the networks segment: a multiple of stride
+  volume::VolumeParams params;  // geometry of the reference labeling
 };
 
 // Also returns, through `on_progress(done, total)`, progress of the slow network passes.
-Result<EvalSequence> loadSevenScenes(const SevenScenesOptions& options, const std::filesystem::path& cache,
-                                     const std::function<void(const std::string&, std::size_t, std::size_t)>& on_progress);
+Result<EvalSequence> loadSevenScenes(
+    const SevenScenesOptions& options, const std::filesystem::path& cache,
+    const std::function<void(const std::string&, std::size_t, std::size_t)>& on_progress);
 
 // Depth-only integration of every frame: the geometry the label passes share.
 Result<volume::LabeledVolume> integrateGeometry(const EvalSequence& sequence, const volume::VolumeParams& params);

@@ -15,11 +15,16 @@ using volume::LabelRule;
 
 const char* kindName(LabelSourceKind kind) {
   switch (kind) {
-    case LabelSourceKind::kTruth: return "truth";
-    case LabelSourceKind::kPixel: return "pixel";
-    case LabelSourceKind::kRegion: return "region";
-    case LabelSourceKind::kSimulatedCnn: return "simulated-cnn";
-    case LabelSourceKind::kSegmenter: return "deeplab";
+    case LabelSourceKind::kTruth:
+      return "truth";
+    case LabelSourceKind::kPixel:
+      return "pixel";
+    case LabelSourceKind::kRegion:
+      return "region";
+    case LabelSourceKind::kSimulatedCnn:
+      return "simulated-cnn";
+    case LabelSourceKind::kSegmenter:
+      return "deeplab";
   }
   return "unknown";
 }
@@ -109,8 +114,8 @@ Status Experiments::noiseSweep(LabelSourceKind kind) {
         if (!error) return makeError(error.error());
         sweep_[{kind, dataset.name, rule, p}] = error.value();
         csv << dataset.name << ',' << kindName(kind) << ',' << volume::labelRuleName(rule) << ',' << p << ','
-            << fixed(error.value().mean, 5) << ',' << fixed(error.value().min, 5) << ','
-            << fixed(error.value().max, 5) << ',' << error.value().runs << '\n';
+            << fixed(error.value().mean, 5) << ',' << fixed(error.value().min, 5) << ',' << fixed(error.value().max, 5)
+            << ',' << error.value().runs << '\n';
         progress_(stem, ++done, total);
       }
   if (Status s = csv.close(); !s) return s;
@@ -140,7 +145,8 @@ Status Experiments::perFrameVsVolumetric() {
                                     : LabelSource{LabelSourceKind::kSimulatedCnn, options_.cnn_noise, options_.seed};
     PerFrameResult result;
     result.dataset = dataset.name;
-    result.source = real ? "DeepLabV3-MNv2 ADE20K 257" : "simulated CNN (region noise " + percent(options_.cnn_noise) + ")";
+    result.source =
+        real ? "DeepLabV3-MNv2 ADE20K 257" : "simulated CNN (region noise " + percent(options_.cnn_noise) + ")";
     std::vector<double> per_frame;
     for (std::size_t r = 0; r < dataset.runs.size(); ++r) {
       const EvalSequence& sequence = dataset.runs[r]->sequence();
@@ -175,7 +181,8 @@ Status Experiments::perFrameVsVolumetric() {
       }
       result.volumetric[rule] = volumetric;
       csv << dataset.name << ",\"" << result.source << "\"," << fixed(result.per_frame_mean, 5) << ','
-          << fixed(result.per_frame_std, 5) << ',' << volume::labelRuleName(rule) << ',' << fixed(volumetric, 5) << '\n';
+          << fixed(result.per_frame_std, 5) << ',' << volume::labelRuleName(rule) << ',' << fixed(volumetric, 5)
+          << '\n';
       progress_("exp3_per_frame_vs_volumetric", ++done, datasets_.size() * options_.rules.size());
     }
     per_frame_.push_back(result);
@@ -200,10 +207,11 @@ Status Experiments::rulesSideBySide() {
     auto error = meanError(dataset, params, LabelSource{LabelSourceKind::kPixel, 0.5, options_.seed}, &cost, &sidecar);
     if (!error) return makeError(error.error());
     const volume::LabeledVolume& geometry = dataset.runs[0]->geometry();
-    RuleCost rc{rule, static_cast<double>(volume::labelRuleBytesPerVoxel(rule)),
-                static_cast<double>(geometry.geometryMemoryBytes()) / static_cast<double>(geometry.allocatedVoxels()) +
-                    sidecar,
-                1000.0 * cost.wall_s / static_cast<double>(cost.frames), 1000.0 * cost.cpu_s / static_cast<double>(cost.frames)};
+    RuleCost rc{
+        rule, static_cast<double>(volume::labelRuleBytesPerVoxel(rule)),
+        static_cast<double>(geometry.geometryMemoryBytes()) / static_cast<double>(geometry.allocatedVoxels()) + sidecar,
+        1000.0 * cost.wall_s / static_cast<double>(cost.frames),
+        1000.0 * cost.cpu_s / static_cast<double>(cost.frames)};
     if (rule == LabelRule::kEvidence) evidence_cpu = rc.cpu_ms_per_frame;
     costs_.push_back(rc);
     auto at = [&](LabelSourceKind kind, double p) {
@@ -235,7 +243,8 @@ Status Experiments::sensitivity() {
       params.max_label_score = clamp;
       auto pixel = meanError(dataset, params, LabelSource{LabelSourceKind::kPixel, 0.5, options_.seed});
       if (!pixel) return makeError(pixel.error());
-      auto cnn = meanError(dataset, params, LabelSource{LabelSourceKind::kSimulatedCnn, options_.cnn_noise, options_.seed});
+      auto cnn =
+          meanError(dataset, params, LabelSource{LabelSourceKind::kSimulatedCnn, options_.cnn_noise, options_.seed});
       if (!cnn) return makeError(cnn.error());
       clamp_[{rule, clamp}] = {pixel.value().mean, cnn.value().mean};
       clamp_csv << dataset.name << ',' << volume::labelRuleName(rule) << ',' << clamp << ','

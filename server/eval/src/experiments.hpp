@@ -9,8 +9,8 @@
 //  6 what limits the error (diagnosis)     -> exp6_diagnosis.csv
 #include <filesystem>
 #include <functional>
-#include <ostream>
 #include <map>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -21,16 +21,16 @@
 namespace semfuse::eval {
 
 struct Dataset {
-  std::string name;                 // "synthetic", "7scenes"
-  std::vector<Scenario*> runs;      // seeds / trajectories; errors are averaged over them
-  volume::VolumeParams params;      // voxel size etc. of this dataset
+  std::string name;             // "synthetic", "7scenes"
+  std::vector<Scenario*> runs;  // seeds / trajectories; errors are averaged over them
+  volume::VolumeParams params;  // voxel size etc. of this dataset
 };
 
 struct ExperimentOptions {
   std::filesystem::path out;
   std::vector<double> noise_levels;
   std::vector<volume::LabelRule> rules;
-  double cnn_noise = 0.35;                       // region-switch probability of the simulated CNN
+  double cnn_noise = 0.35;  // region-switch probability of the simulated CNN
   std::vector<float> clamps{4, 16, 64, 256};
   uint64_t seed = 1;
 };
@@ -49,8 +49,8 @@ struct PerFrameResult {
 
 struct RuleCost {
   volume::LabelRule rule;
-  double nominal_bytes = 0.0;         // packed voxel + sidecar per voxel
-  double measured_bytes = 0.0;        // (geometry + sidecar memUsage) / allocated voxels
+  double nominal_bytes = 0.0;   // packed voxel + sidecar per voxel
+  double measured_bytes = 0.0;  // (geometry + sidecar memUsage) / allocated voxels
   double wall_ms_per_frame = 0.0, cpu_ms_per_frame = 0.0;
 };
 
@@ -59,10 +59,10 @@ class Experiments {
   using ProgressFn = std::function<void(const std::string& what, std::size_t done, std::size_t total)>;
   Experiments(ExperimentOptions options, std::vector<Dataset> datasets, ProgressFn progress);
 
-  Status noiseSweep(LabelSourceKind kind);  // experiments 1 (kPixel) and 2 (kRegion)
-  Status perFrameVsVolumetric();            // 3
-  Status rulesSideBySide();                 // 4 (uses 1 and 2 for its error columns)
-  Status sensitivity();                     // 5
+  Status noiseSweep(LabelSourceKind kind);                   // experiments 1 (kPixel) and 2 (kRegion)
+  Status perFrameVsVolumetric();                             // 3
+  Status rulesSideBySide();                                  // 4 (uses 1 and 2 for its error columns)
+  Status sensitivity();                                      // 5
   Status diagnosis(const std::vector<double>& pixel_noise);  // 6 (label_diagnosis.hpp)
   Status writeSummary(const std::string& command, const std::string& notes) const;
 

@@ -30,8 +30,8 @@ Result<ExactCounts> countLabels(const Scenario& scenario, const volume::VolumePa
       cv::Mat binary;
       shown.convertTo(binary, CV_16UC1, 1.0 / 255.0);
       const EvalFrame& frame = sequence.frames[i];
-      auto stats = volume::integrateLabels(volume, frame.depth, binary, cv::Mat(), sequence.intrinsics,
-                                           frame.camera_to_world);
+      auto stats =
+          volume::integrateLabels(volume, frame.depth, binary, cv::Mat(), sequence.intrinsics, frame.camera_to_world);
       if (!stats) return makeError(stats.error());
     }
     for (std::size_t v = 0; v < surface.size(); ++v) {

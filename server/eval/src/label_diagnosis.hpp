@@ -24,19 +24,19 @@ inline const std::vector<int>& observationBins() {
 }
 
 struct DiagnosisBin {
-  int lower = 0;                   // observations, inclusive
-  std::size_t voxels = 0;          // surface voxels the reference labels with this many observations
-  std::size_t rule_wrong = 0;      // the rule's label differs from its noise-free reference
-  std::size_t oracle_wrong = 0;    // the exact-count argmax differs from it
+  int lower = 0;                 // observations, inclusive
+  std::size_t voxels = 0;        // surface voxels the reference labels with this many observations
+  std::size_t rule_wrong = 0;    // the rule's label differs from its noise-free reference
+  std::size_t oracle_wrong = 0;  // the exact-count argmax differs from it
 };
 
 struct LabelDiagnosis {
   std::vector<DiagnosisBin> bins;
   std::size_t voxels = 0, rule_wrong = 0, oracle_wrong = 0;
-  std::size_t border_voxels = 0;        // noise-free counts: the top label has < 80% of them
+  std::size_t border_voxels = 0;  // noise-free counts: the top label has < 80% of them
   std::size_t border_rule_wrong = 0;
-  std::size_t rule_only_wrong = 0;      // the oracle is right: truncation / clamp / fixed point
-  std::size_t oracle_only_wrong = 0;    // the rule is right where the oracle is not (ties, luck)
+  std::size_t rule_only_wrong = 0;    // the oracle is right: truncation / clamp / fixed point
+  std::size_t oracle_only_wrong = 0;  // the rule is right where the oracle is not (ties, luck)
 };
 
 // Exact per-voxel counts of each label present in the sequence, for the scenario's surface

@@ -39,8 +39,7 @@ LabelError volumetricLabelError(const volume::LabeledVolume& reference, const vo
 }
 
 Result<LabelError> pixelLabelError(const cv::Mat& reference, const cv::Mat& labels) {
-  if (reference.type() != CV_16UC1 || labels.type() != CV_16UC1)
-    return makeError("label images must be CV_16UC1");
+  if (reference.type() != CV_16UC1 || labels.type() != CV_16UC1) return makeError("label images must be CV_16UC1");
   if (reference.size() != labels.size())
     return makeError("label image is " + std::to_string(labels.cols) + "x" + std::to_string(labels.rows) +
                      ", the reference " + std::to_string(reference.cols) + "x" + std::to_string(reference.rows));

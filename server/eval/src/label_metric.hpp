@@ -7,8 +7,8 @@
 #include <cstddef>
 #include <vector>
 
-#include <opencv2/core/mat.hpp>
 #include <openvdb/openvdb.h>
+#include <opencv2/core/mat.hpp>
 
 #include "semfuse/core/result.hpp"
 #include "semfuse/volume/labeled_volume.hpp"

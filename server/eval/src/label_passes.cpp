@@ -25,9 +25,12 @@ double cpuSeconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC;
 
 const char* weightModeName(WeightMode mode) {
   switch (mode) {
-    case WeightMode::kConfidence: return "confidence";
-    case WeightMode::kConstant: return "constant";
-    case WeightMode::kSquared: return "squared";
+    case WeightMode::kConfidence:
+      return "confidence";
+    case WeightMode::kConstant:
+      return "constant";
+    case WeightMode::kSquared:
+      return "squared";
   }
   return "unknown";
 }
@@ -48,7 +51,8 @@ Result<Segmentation> labelsFor(const EvalSequence& sequence, std::size_t i, cons
   if (source.kind == LabelSourceKind::kPixel || source.kind == LabelSourceKind::kRegion ||
       source.kind == LabelSourceKind::kSimulatedCnn) {
     segmenter::NoiseParams noise;
-    noise.model = source.kind == LabelSourceKind::kPixel ? segmenter::NoiseModel::kPixel : segmenter::NoiseModel::kRegion;
+    noise.model =
+        source.kind == LabelSourceKind::kPixel ? segmenter::NoiseModel::kPixel : segmenter::NoiseModel::kRegion;
     noise.probability = source.probability;
     noise.seed = source.seed;
     noise.candidates = sequence.present_labels;

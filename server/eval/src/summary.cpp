@@ -39,7 +39,8 @@ void Experiments::writeDiagnosis(std::ostream& md) const {
         "the argmax of unbounded counts; the rule's errors where the oracle is right come from the rule itself\n"
         "(list truncation, clamp, fixed point), the others from the observations. A border voxel is one whose\n"
         "noise-free observations give its top label less than 80% (labels genuinely compete there).\n\n"
-        "| dataset | rule | noise | rule error | exact-count oracle | rule wrong, oracle right | voxels seen < 10 times |"
+        "| dataset | rule | noise | rule error | exact-count oracle | rule wrong, oracle right | voxels seen < 10 "
+        "times |"
         " error there | border voxels | error there |\n|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& [key, d] : diagnosis_) {
     const auto& [dataset, rule, p] = key;
@@ -63,9 +64,11 @@ Status Experiments::writeSummary(const std::string& command, const std::string& 
         "Reproduces the label fusion experiments of Cavallari & Di Stefano (PSIVT 2015) with semfuse's own\n"
         "volume, label rules and raycast (`semfuse-eval`, in process), and compares the paper's evidence\n"
         "weighting (`evidence`) with two top-5 rules: `majority` (count per label) and `bayes` (log-probability\n"
-        "under a calibrated likelihood, Kimera-Semantics style); see `server/volume/include/semfuse/volume/label_rules.hpp`.\n\n"
+        "under a calibrated likelihood, Kimera-Semantics style); see "
+        "`server/volume/include/semfuse/volume/label_rules.hpp`.\n\n"
         "Regenerate everything (CSVs, plots, this file):\n\n```sh\n"
-     << command << "\n```\n\n" << notes << "\n";
+     << command << "\n```\n\n"
+     << notes << "\n";
 
   auto err = [&](LabelSourceKind kind, const std::string& dataset, LabelRule rule, double p) -> const ErrorSummary* {
     auto found = sweep_.find({kind, dataset, rule, p});
@@ -148,11 +151,12 @@ Status Experiments::writeSummary(const std::string& command, const std::string& 
         if (ratio > worst_ratio) worst_ratio = ratio, worst_p = p;
       }
       const double ratio = sum_evidence > 0 ? sum_rule / sum_evidence : 0.0;
-      md << "- region noise, " << names.front() << ": " << volume::labelRuleName(r)
-         << " has " << pct(ratio) << " of evidence weighting's error summed over the noise levels (worst level "
-         << pct(worst_p) << ": " << pct(worst_ratio) << "), at " << volume::labelRuleBytesPerVoxel(r) << " vs "
-         << volume::labelRuleBytesPerVoxel(LabelRule::kEvidence) << " bytes per voxel; halved over the grid: "
-         << verdict(ratio <= 0.5) << ", halved at every level: " << verdict(worst_ratio <= 0.5) << "\n";
+      md << "- region noise, " << names.front() << ": " << volume::labelRuleName(r) << " has " << pct(ratio)
+         << " of evidence weighting's error summed over the noise levels (worst level " << pct(worst_p) << ": "
+         << pct(worst_ratio) << "), at " << volume::labelRuleBytesPerVoxel(r) << " vs "
+         << volume::labelRuleBytesPerVoxel(LabelRule::kEvidence)
+         << " bytes per voxel; halved over the grid: " << verdict(ratio <= 0.5)
+         << ", halved at every level: " << verdict(worst_ratio <= 0.5) << "\n";
     }
   }
 
@@ -178,7 +182,8 @@ Status Experiments::writeSummary(const std::string& command, const std::string& 
         "of the geometry and sidecar grids over allocated voxels (tree overhead included). Cost: one label pass\n"
         "(integrateLabels) at 50% pixel noise, per frame, noise generation included (loaded 2-core machine:\n"
         "compare the ratios, not the milliseconds).\n\n"
-        "| rule | bytes/voxel | measured bytes/voxel | ms/frame | CPU ms/frame | CPU vs evidence | pixel 50% | pixel 70% | region 50% |\n"
+        "| rule | bytes/voxel | measured bytes/voxel | ms/frame | CPU ms/frame | CPU vs evidence | pixel 50% | pixel "
+        "70% | region 50% |\n"
         "|---|---|---|---|---|---|---|---|---|\n";
   double evidence_cpu = 0.0;
   for (const RuleCost& c : costs_)

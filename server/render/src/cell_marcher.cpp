@@ -12,7 +12,7 @@ constexpr int kLeafDim = CrossingCells::kLeafDim;
 constexpr int kLeafMask = kLeafDim - 1;
 constexpr int kMaxNewtonSteps = 4;
 constexpr double kRootTolerance = 1e-4;  // of the segment through the cell
-constexpr int kMaxCubeDim = 8;  // a leaf
+constexpr int kMaxCubeDim = 8;           // a leaf
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 int floorInt(double x) {
@@ -68,8 +68,13 @@ struct CellPolynomial {
   double c0, c1, c2, c3, c4, c5, c6, c7;
 
   explicit CellPolynomial(const float v[8])
-      : c0(v[0]), c1(v[1] - v[0]), c2(v[2] - v[0]), c3(v[4] - v[0]), c4(v[3] - v[2] - v[1] + v[0]),
-        c5(v[5] - v[4] - v[1] + v[0]), c6(v[6] - v[4] - v[2] + v[0]),
+      : c0(v[0]),
+        c1(v[1] - v[0]),
+        c2(v[2] - v[0]),
+        c3(v[4] - v[0]),
+        c4(v[3] - v[2] - v[1] + v[0]),
+        c5(v[5] - v[4] - v[1] + v[0]),
+        c6(v[6] - v[4] - v[2] + v[0]),
         c7(v[7] - v[6] - v[5] + v[4] - v[3] + v[2] + v[1] - v[0]) {}
 };
 
@@ -211,8 +216,8 @@ bool CellMarcher::findSurface(const MarchRay& ray, SurfaceHit& hit) const {
         // The cell's corners k = dx + 2 dy + 4 dz, from the leaf's brick.
         const float* base = leaf->tsdf + CrossingCells::kBrickStride * lx + CrossingCells::kBrickDim * ly + lz;
         constexpr int kX = CrossingCells::kBrickStride, kY = CrossingCells::kBrickDim;
-        const float v[8] = {base[0],  base[kX],     base[kY],     base[kX + kY],
-                            base[1],  base[kX + 1], base[kY + 1], base[kX + kY + 1]};
+        const float v[8] = {base[0], base[kX],     base[kY],     base[kX + kY],
+                            base[1], base[kX + 1], base[kY + 1], base[kX + kY + 1]};
         // The ray relative to the cell's base voxel, and its segment through the cell: the
         // interpolant along it is a cubic g in s = (t' - t) / (t_exit - t).
         const double rx = o.x() - cell[0], ry = o.y() - cell[1], rz = o.z() - cell[2];

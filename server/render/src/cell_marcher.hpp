@@ -24,7 +24,7 @@ namespace semfuse::render::detail {
 struct SurfaceHit {
   double t = 0.0;  // camera depth
   float tsdf[8] = {};
-  float fraction[3] = {};  // hit point minus the cell's base voxel, each in [0, 1]
+  float fraction[3] = {};                          // hit point minus the cell's base voxel, each in [0, 1]
   const CrossingCells::LeafCells* leaf = nullptr;  // the leaf of the cell's base voxel
   int local[3] = {};                               // the base voxel in that leaf
 };

@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <limits>
 
-#include <Eigen/Core>
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <Eigen/Core>
 
 #include "semfuse/render/raycast.hpp"
 #include "voxel_columns.hpp"
@@ -29,12 +29,12 @@ struct Plane {
 // outermost pixel centres, and the depth range widened by a voxel.
 std::array<Plane, 6> frustumPlanes(const PinholeIntrinsics& k, double min_depth, double max_depth, double margin) {
   return {{
-      {{k.fx, 0.0, k.cx + 1.0}, 0.0},               // u >= -1
-      {{-k.fx, 0.0, k.width - k.cx}, 0.0},          // u <= width
-      {{0.0, k.fy, k.cy + 1.0}, 0.0},               // v >= -1
-      {{0.0, -k.fy, k.height - k.cy}, 0.0},         // v <= height
-      {{0.0, 0.0, 1.0}, -(min_depth - margin)},     // z >= min_depth
-      {{0.0, 0.0, -1.0}, max_depth + margin},       // z <= max_depth
+      {{k.fx, 0.0, k.cx + 1.0}, 0.0},            // u >= -1
+      {{-k.fx, 0.0, k.width - k.cx}, 0.0},       // u <= width
+      {{0.0, k.fy, k.cy + 1.0}, 0.0},            // v >= -1
+      {{0.0, -k.fy, k.height - k.cy}, 0.0},      // v <= height
+      {{0.0, 0.0, 1.0}, -(min_depth - margin)},  // z >= min_depth
+      {{0.0, 0.0, -1.0}, max_depth + margin},    // z <= max_depth
   }};
 }
 
@@ -42,7 +42,8 @@ std::array<Plane, 6> frustumPlanes(const PinholeIntrinsics& k, double min_depth,
 // the box, and so no ray sample in it, is inside the frustum.
 bool meetsFrustum(const openvdb::Coord& origin, double voxel, const Eigen::Matrix3d& world_to_camera,
                   const Eigen::Vector3d& camera_origin, const std::array<Plane, 6>& planes) {
-  const Eigen::Vector3d low = world_to_camera * (Eigen::Vector3d(origin.x(), origin.y(), origin.z()) * voxel - camera_origin);
+  const Eigen::Vector3d low =
+      world_to_camera * (Eigen::Vector3d(origin.x(), origin.y(), origin.z()) * voxel - camera_origin);
   const double edge = kLeafDim * voxel;
   const Eigen::Vector3d ex = world_to_camera.col(0) * edge, ey = world_to_camera.col(1) * edge,
                         ez = world_to_camera.col(2) * edge;
@@ -67,13 +68,15 @@ std::array<uint64_t, kLeafDim> crossingMask(const VoxelColumns& c) {
   std::array<uint64_t, kLeafDim> mask{};
   for (int x = 0; x < kLeafDim; ++x)
     for (int y = 0; y < kLeafDim; ++y) {
-      const unsigned all_seen = c.observed[x][y] & c.observed[x + 1][y] & c.observed[x][y + 1] & c.observed[x + 1][y + 1];
+      const unsigned all_seen =
+          c.observed[x][y] & c.observed[x + 1][y] & c.observed[x][y + 1] & c.observed[x + 1][y + 1];
       const unsigned any_below =
           c.non_positive[x][y] | c.non_positive[x + 1][y] | c.non_positive[x][y + 1] | c.non_positive[x + 1][y + 1];
-      const unsigned any_above = c.positive[x][y] | c.positive[x + 1][y] | c.positive[x][y + 1] | c.positive[x + 1][y + 1];
+      const unsigned any_above =
+          c.positive[x][y] | c.positive[x + 1][y] | c.positive[x][y + 1] | c.positive[x + 1][y + 1];
       // Bit z of each: voxels z and z + 1 of the columns, the cell's two levels.
-      const unsigned cells = (all_seen & (all_seen >> 1)) & (any_below | (any_below >> 1)) &
-                             (any_above | (any_above >> 1)) & 0xFFu;
+      const unsigned cells =
+          (all_seen & (all_seen >> 1)) & (any_below | (any_below >> 1)) & (any_above | (any_above >> 1)) & 0xFFu;
       mask[x] |= static_cast<uint64_t>(cells) << (kLeafDim * y);
     }
   return mask;
@@ -153,8 +156,8 @@ SurfaceBox surfaceBox(const LeafCells& leaf, const VoxelColumns& columns, int x0
         // Which corners are <= 0, from the column bits (all 8 are observed).
         const unsigned c00 = columns.non_positive[x][y] >> z, c10 = columns.non_positive[x + 1][y] >> z,
                        c01 = columns.non_positive[x][y + 1] >> z, c11 = columns.non_positive[x + 1][y + 1] >> z;
-        const unsigned below = (c00 & 1u) | (c10 & 1u) << 1 | (c01 & 1u) << 2 | (c11 & 1u) << 3 |
-                               (c00 & 2u) << 3 | (c10 & 2u) << 4 | (c01 & 2u) << 5 | (c11 & 2u) << 6;
+        const unsigned below = (c00 & 1u) | (c10 & 1u) << 1 | (c01 & 1u) << 2 | (c11 & 1u) << 3 | (c00 & 2u) << 3 |
+                               (c10 & 2u) << 4 | (c01 & 2u) << 5 | (c11 & 2u) << 6;
         const float* c = leaf.tsdf + kCornerOffset[1] * x + kCornerOffset[2] * y + z;
         Corners& v = corners[cells];
         for (int k = 0; k < 8; ++k) v[k] = c[kCornerOffset[k]];
@@ -171,10 +174,10 @@ SurfaceBox surfaceBox(const LeafCells& leaf, const VoxelColumns& columns, int x0
           if (!(below & kLowerFace[axis]) || !(below & ~kLowerFace[axis] & 0xFFu)) {
             const int* lower = kLowerFaceCorners[axis];
             const int along = 1 << axis;
-            nonPositiveSpan(Eigen::Array4f(v[lower[0]], v[lower[1]], v[lower[2]], v[lower[3]]),
-                            Eigen::Array4f(v[lower[0] | along], v[lower[1] | along], v[lower[2] | along],
-                                           v[lower[3] | along]),
-                            lo, hi);
+            nonPositiveSpan(
+                Eigen::Array4f(v[lower[0]], v[lower[1]], v[lower[2]], v[lower[3]]),
+                Eigen::Array4f(v[lower[0] | along], v[lower[1] | along], v[lower[2] | along], v[lower[3] | along]), lo,
+                hi);
           }
           box.lo[axis] = std::min(box.lo[axis], cell[axis] + lo);
           box.hi[axis] = std::max(box.hi[axis], cell[axis] + hi);
@@ -244,8 +247,8 @@ CrossingCells::CrossingCells(const volume::LabeledVolume& volume, const PinholeI
   const auto planes = frustumPlanes(k, min_depth, max_depth, voxel);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves_.size(), 64), [&](const auto& range) {
     for (std::size_t i = range.begin(); i < range.end(); ++i)
-      leaves_[i].in_view = !leaves[i]->isEmpty() &&
-                           meetsFrustum(leaves_[i].origin, voxel, world_to_camera, camera_origin, planes);
+      leaves_[i].in_view =
+          !leaves[i]->isEmpty() && meetsFrustum(leaves_[i].origin, voxel, world_to_camera, camera_origin, planes);
   });
   // The leaves rays can read: those in view and their upper neighbours (cells on a leaf's upper
   // faces read those), each leaf in view with its 8 (itself first), looked up once.
@@ -256,8 +259,8 @@ CrossingCells::CrossingCells(const volume::LabeledVolume& volume, const PinholeI
     if (!leaves_[i].in_view) continue;
     std::array<uint32_t, 8>& upper = upper_of.emplace_back();
     for (int n = 0; n < 8; ++n) {
-      const LeafCells* neighbour = find(leaves_[i].origin.offsetBy((n & 1) * kLeafDim, ((n >> 1) & 1) * kLeafDim,
-                                                                   (n >> 2) * kLeafDim));
+      const LeafCells* neighbour =
+          find(leaves_[i].origin.offsetBy((n & 1) * kLeafDim, ((n >> 1) & 1) * kLeafDim, (n >> 2) * kLeafDim));
       upper[n] = neighbour ? static_cast<uint32_t>(neighbour - leaves_.data()) : LeafIndex::kNone;
       if (!neighbour || is_needed[upper[n]]) continue;
       needed.push_back(upper[n]);

@@ -19,9 +19,9 @@
 
 #include <openvdb/openvdb.h>
 
+#include "leaf_index.hpp"
 #include "semfuse/core/types.hpp"
 #include "semfuse/volume/labeled_volume.hpp"
-#include "leaf_index.hpp"
 
 namespace semfuse::render::detail {
 
@@ -47,7 +47,7 @@ class CrossingCells {
     openvdb::Coord origin;
     const volume::PackedVoxel* voxels = nullptr;  // z fastest: offset = 64 x + 8 y + z
     const volume::PackedColor* colors = nullptr;  // same layout; only when colour was asked for
-    bool in_view = false;                           // meets the frustum
+    bool in_view = false;                         // meets the frustum
     // Voxels (and colours) of this leaf and of its upper neighbours, index dx + 2 dy + 4 dz (0 =
     // this leaf): the corners of the cells on the upper faces lie there. Null where unallocated;
     // filled for the leaves in view only.

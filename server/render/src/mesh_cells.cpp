@@ -126,8 +126,7 @@ LeafCells classifyCells(const LeafTable& leaves, std::size_t i, const std::optio
   constexpr int kSpan = kLeafDim + 2;  // voxels -1..8 on each axis
   LeafCells cells;
   const openvdb::Coord origin = leaves.leaf(i).origin();
-  if (cell_bounds && !cell_bounds->hasOverlap(openvdb::CoordBBox(origin, origin.offsetBy(kLeafDim - 1))))
-    return cells;
+  if (cell_bounds && !cell_bounds->hasOverlap(openvdb::CoordBBox(origin, origin.offsetBy(kLeafDim - 1)))) return cells;
 
   // One 10-bit column per (x, y), -1 <= x, y <= 8: bit z + 1 = voxel (x, y, z) observed / inside.
   const VoxelBlock block(leaves, i);

@@ -101,7 +101,7 @@ struct LeafCells {
   std::vector<SplitCell> split_cells;  // by cell; a few per leaf at most
   uint32_t single_count = 0;           // vertices numbered by the surface bits
   uint32_t vertex_count = 0;           // those and the extra ones
-  uint32_t first_vertex = 0;  // index in the mesh of the leaf's first vertex, set once all are counted
+  uint32_t first_vertex = 0;           // index in the mesh of the leaf's first vertex, set once all are counted
 
   bool isSurface(int x, int y, int z) const { return (surface[x] >> ((y << 3) | z)) & 1; }
   bool isSplit(int x, int y, int z) const { return (split[x] >> ((y << 3) | z)) & 1; }

@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Geometry>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <Eigen/Geometry>
 
 #include "semfuse/volume/cell_interpolation.hpp"
 
@@ -74,8 +74,9 @@ Eigen::Vector3f normalAt(const CellCorners& c, const Eigen::Vector3f& p) {
 // the nearest corner.
 void placeVertex(const CellCorners& corners, const openvdb::Coord& cell, const Eigen::Vector3f& p, float voxel_size,
                  volume::ColorGrid::ConstAccessor* colors, uint32_t index, LabeledMesh& mesh) {
-  mesh.vertices[index] = (Eigen::Vector3f(static_cast<float>(cell.x()), static_cast<float>(cell.y()),
-                                          static_cast<float>(cell.z())) + p) * voxel_size;
+  mesh.vertices[index] =
+      (Eigen::Vector3f(static_cast<float>(cell.x()), static_cast<float>(cell.y()), static_cast<float>(cell.z())) + p) *
+      voxel_size;
   mesh.normals[index] = normalAt(corners, p);
   // The nearest voxel is the nearest corner: the one on the same side of 0.5 on every axis.
   const int nearest = (p.x() >= 0.5f ? 1 : 0) | (p.y() >= 0.5f ? 2 : 0) | (p.z() >= 0.5f ? 4 : 0);
@@ -88,8 +89,8 @@ void placeVertex(const CellCorners& corners, const openvdb::Coord& cell, const E
 
 // Writes position, normal, label, score and colour of every vertex of leaf i, at the indices
 // LeafCells::vertex gives.
-void placeVertices(const volume::LabeledVolume& volume, const LeafTable& leaves, std::size_t i,
-                   const LeafCells& cells, volume::ColorGrid::ConstAccessor* colors, LabeledMesh& mesh) {
+void placeVertices(const volume::LabeledVolume& volume, const LeafTable& leaves, std::size_t i, const LeafCells& cells,
+                   volume::ColorGrid::ConstAccessor* colors, LabeledMesh& mesh) {
   const VoxelBlock block(leaves, i);
   const openvdb::Coord origin = leaves.leaf(i).origin();
   const auto voxel_size = static_cast<float>(volume.voxelSize());
@@ -157,18 +158,15 @@ template <typename Emit>
       // + end of the edge. That end is the free side when v is inside; otherwise reverse.
       // The edge starts at the corner of cell (cx, cy, cz) that lies at (x, y, z).
       auto corner = [&](int cx, int cy, int cz) { return (x - cx) | ((y - cy) << 1) | ((z - cz) << 2); };
-      auto quad = [&](int axis, bool crossed, int ax, int ay, int az, int bx, int by, int bz, int dx, int dy,
-                      int dz) {
+      auto quad = [&](int axis, bool crossed, int ax, int ay, int az, int bx, int by, int bz, int dx, int dy, int dz) {
         uint32_t a, b, d;
         if (!crossed || !lower.vertex(ax, ay, az, corner(ax, ay, az), axis, a) ||
             !lower.vertex(bx, by, bz, corner(bx, by, bz), axis, b) ||
             !lower.vertex(dx, dy, dz, corner(dx, dy, dz), axis, d))
           return;
         const uint32_t c = cells.isSplit(x, y, z) ? cells.splitEdgeVertex(x, y, z, 0, axis) : self;
-        if (inside)
-          emit(a, b, c, d);
-        else
-          emit(a, d, c, b);
+        if (inside) emit(a, b, c, d);
+        else emit(a, d, c, b);
       };
       quad(0, cells.isInside(x + 1, y, z) != inside, x, y - 1, z - 1, x, y, z - 1, x, y - 1, z);
       quad(1, cells.isInside(x, y + 1, z) != inside, x - 1, y, z - 1, x - 1, y, z, x, y, z - 1);

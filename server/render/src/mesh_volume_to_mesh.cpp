@@ -23,7 +23,7 @@ openvdb::FloatGrid::Ptr tsdfGrid(const volume::LabeledVolume& volume) {
   auto tree = std::make_shared<FloatTree>(volume.geometryGrid().tree(), truncation, openvdb::TopologyCopy());
   openvdb::tree::LeafManager<FloatTree> leaves(*tree);
   const GeometryTree& geometry = volume.geometryGrid().tree();
-  leaves.foreach([&](FloatTree::LeafNodeType& leaf, size_t) {
+  leaves.foreach ([&](FloatTree::LeafNodeType& leaf, size_t) {
     const auto* source = geometry.probeConstLeaf(leaf.origin());
     if (!source) return;
     const volume::PackedVoxel* packed = source->buffer().data();
@@ -43,11 +43,10 @@ openvdb::FloatGrid::Ptr tsdfGrid(const volume::LabeledVolume& volume) {
 openvdb::BoolGrid::Ptr observedCellMask(const volume::LabeledVolume& volume,
                                         const std::optional<openvdb::CoordBBox>& bounds) {
   auto tree = std::make_shared<BoolTree>(volume.geometryGrid().tree(), false, openvdb::TopologyCopy());
-  openvdb::tools::erodeActiveValues(*tree, 1, openvdb::tools::NN_FACE_EDGE_VERTEX,
-                                    openvdb::tools::IGNORE_TILES);
+  openvdb::tools::erodeActiveValues(*tree, 1, openvdb::tools::NN_FACE_EDGE_VERTEX, openvdb::tools::IGNORE_TILES);
   if (bounds) {
     openvdb::tree::LeafManager<BoolTree> leaves(*tree);
-    leaves.foreach([&](BoolTree::LeafNodeType& leaf, size_t) {
+    leaves.foreach ([&](BoolTree::LeafNodeType& leaf, size_t) {
       for (auto it = leaf.beginValueOn(); it; ++it)
         if (!bounds->isInside(it.getCoord())) it.setValueOff();
     });
@@ -60,8 +59,7 @@ openvdb::BoolGrid::Ptr observedCellMask(const volume::LabeledVolume& volume,
 void collectTriangles(const openvdb::tools::VolumeToMesh& mesher, LabeledMesh& mesh) {
   const openvdb::tools::PolygonPoolList& pools = mesher.polygonPoolList();
   size_t count = 0;
-  for (size_t p = 0; p < mesher.polygonPoolListSize(); ++p)
-    count += pools[p].numTriangles() + 2 * pools[p].numQuads();
+  for (size_t p = 0; p < mesher.polygonPoolListSize(); ++p) count += pools[p].numTriangles() + 2 * pools[p].numQuads();
   mesh.triangles.reserve(count);
   // VolumeToMesh already winds counter-clockwise seen from the positive (free) side, which is
   // what PLY viewers take as the front face.

@@ -39,8 +39,9 @@ Status checkMesh(const LabeledMesh& mesh, const PlyOptions& options) {
   if (n > static_cast<size_t>(INT32_MAX)) return makeError("mesh has too many vertices for PLY int indices");
   for (size_t f = 0; f < mesh.triangles.size(); ++f)
     for (uint32_t index : mesh.triangles[f])
-      if (index >= n) return makeError("mesh triangle " + std::to_string(f) + " indexes vertex " +
-                                       std::to_string(index) + " of " + std::to_string(n));
+      if (index >= n)
+        return makeError("mesh triangle " + std::to_string(f) + " indexes vertex " + std::to_string(index) + " of " +
+                         std::to_string(n));
   return Status::Ok();
 }
 

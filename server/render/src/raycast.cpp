@@ -15,9 +15,9 @@
 #include "cell_marcher.hpp"
 #include "crossing_cells.hpp"
 #include "ray_marcher.hpp"
-#include "surface_depth_bounds.hpp"
 #include "semfuse/volume/cell_interpolation.hpp"
 #include "semfuse/volume/volume_sampler.hpp"
+#include "surface_depth_bounds.hpp"
 
 namespace semfuse::render {
 namespace {
@@ -196,26 +196,27 @@ RaycastImages renderCells(detail::CrossingCells& cells, double voxel_size, const
   cells.findCrossings();
   const detail::SurfaceDepthBounds surface_bounds(cells, voxel_size, k, camera_to_world, options.min_depth,
                                                   options.max_depth);
-  tbb::parallel_for(tbb::blocked_range<int>(0, surface_bounds.bandCount(), 1), [&](const tbb::blocked_range<int>& bands) {
-    CellMarcher marcher(cells, voxel_size);
-    detail::BandBounds band_bounds;
-    SurfaceHit hit;
-    for (int band = bands.begin(); band < bands.end(); ++band) {
-      surface_bounds.rasterizeBand(band, band_bounds);
-      const int v_end = std::min(k.height, (band + 1) * detail::SurfaceDepthBounds::kBandRows);
-      for (int v = band * detail::SurfaceDepthBounds::kBandRows; v < v_end; ++v) {
-        clearRow(images, v);
-        for (int u = 0; u < k.width; ++u) {
-          double near, far;
-          if (!band_bounds.depthRange(u, v, near, far)) continue;
-          MarchRay ray = rayThrough(k, camera_to_world, options, u, v);
-          ray.t_min = std::max(ray.t_min, near);
-          ray.t_max = std::min(ray.t_max, far);
-          if (marcher.findSurface(ray, hit)) shadeHit(hit, options.layers, images, u, v);
-        }
-      }
-    }
-  });
+  tbb::parallel_for(tbb::blocked_range<int>(0, surface_bounds.bandCount(), 1),
+                    [&](const tbb::blocked_range<int>& bands) {
+                      CellMarcher marcher(cells, voxel_size);
+                      detail::BandBounds band_bounds;
+                      SurfaceHit hit;
+                      for (int band = bands.begin(); band < bands.end(); ++band) {
+                        surface_bounds.rasterizeBand(band, band_bounds);
+                        const int v_end = std::min(k.height, (band + 1) * detail::SurfaceDepthBounds::kBandRows);
+                        for (int v = band * detail::SurfaceDepthBounds::kBandRows; v < v_end; ++v) {
+                          clearRow(images, v);
+                          for (int u = 0; u < k.width; ++u) {
+                            double near, far;
+                            if (!band_bounds.depthRange(u, v, near, far)) continue;
+                            MarchRay ray = rayThrough(k, camera_to_world, options, u, v);
+                            ray.t_min = std::max(ray.t_min, near);
+                            ray.t_max = std::min(ray.t_max, far);
+                            if (marcher.findSurface(ray, hit)) shadeHit(hit, options.layers, images, u, v);
+                          }
+                        }
+                      }
+                    });
   return images;
 }
 
@@ -233,8 +234,8 @@ struct PreparedRaycast::State {
   Pose camera_to_world;
   RaycastOptions options;
   double voxel_size = 0.0;
-  std::optional<detail::CrossingCells> cells;  // the fast path's copy (masks filled when rendering)
-  std::optional<volume::LabeledVolume> volume;         // the plain march's copy
+  std::optional<detail::CrossingCells> cells;   // the fast path's copy (masks filled when rendering)
+  std::optional<volume::LabeledVolume> volume;  // the plain march's copy
 };
 
 Result<RaycastImages> raycast(const volume::LabeledVolume& volume, const PinholeIntrinsics& k,
@@ -256,8 +257,7 @@ Result<PreparedRaycast> prepareRaycast(const volume::LabeledVolume& volume, cons
   state->voxel_size = volume.voxelSize();
   if (options.skip_empty_space)
     state->cells.emplace(volume, k, camera_to_world, options.min_depth, options.max_depth, cellOptions(options, true));
-  else
-    state->volume.emplace(volume.deepCopy());
+  else state->volume.emplace(volume.deepCopy());
   PreparedRaycast prepared;
   prepared.state_ = std::move(state);
   return prepared;

@@ -146,8 +146,9 @@ void SurfaceDepthBounds::rasterizeBand(int band, BandBounds& out) const {
   out.near_.assign(pixels + kBandPadding, open_near_);
   out.far_.assign(pixels + kBandPadding, open_far_);
   out.inverse_direction_.resize(3 * pixels + kBandPadding);
-  const BandView view{out.v_begin_,     rows,         width_,      out.near_.data(), out.far_.data(),
-                      out.inverse_direction_.data(), near_margin_, far_margin_};
+  const BandView view{
+      out.v_begin_, rows,       width_, out.near_.data(), out.far_.data(), out.inverse_direction_.data(),
+      near_margin_, far_margin_};
   const Rect* first = footprints_.data() + band_start_[band];
   const Rect* last = footprints_.data() + band_start_[band + 1];
   if (raycastKernel() == RaycastKernel::kAvx2) {

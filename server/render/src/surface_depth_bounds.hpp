@@ -43,8 +43,8 @@ class BandBounds {
   friend class SurfaceDepthBounds;
   int v_begin_ = 0;
   int width_ = 0;
-  std::vector<float> near_;  // +inf where no surface box covers the pixel
-  std::vector<float> far_;   // -inf there
+  std::vector<float> near_;               // +inf where no surface box covers the pixel
+  std::vector<float> far_;                // -inf there
   std::vector<float> inverse_direction_;  // scratch of rasterizeBand: per world axis, per pixel
 };
 
@@ -54,8 +54,8 @@ class SurfaceDepthBounds {
 
   // Projects the surface boxes of `cells` (findCrossings() done; voxel size `voxel`) seen by
   // `camera_to_world` with intrinsics `k`, limited to [min_depth, max_depth]; parallel (TBB).
-  SurfaceDepthBounds(const CrossingCells& cells, double voxel, const PinholeIntrinsics& k,
-                     const Pose& camera_to_world, double min_depth, double max_depth);
+  SurfaceDepthBounds(const CrossingCells& cells, double voxel, const PinholeIntrinsics& k, const Pose& camera_to_world,
+                     double min_depth, double max_depth);
 
   // Bands of kBandRows rows (the last may be shorter) cover the image.
   int bandCount() const { return (height_ + kBandRows - 1) / kBandRows; }
@@ -86,7 +86,7 @@ class SurfaceDepthBounds {
  private:
   int width_ = 0;
   int height_ = 0;
-  std::vector<Rect> footprints_;        // grouped by band: a rectangle is listed once per band it touches
+  std::vector<Rect> footprints_;         // grouped by band: a rectangle is listed once per band it touches
   std::vector<std::size_t> band_start_;  // band b's rectangles: [band_start_[b], band_start_[b + 1])
   float open_near_ = 0.0f;               // every pixel's interval includes [open_near_, open_far_]
   float open_far_ = 0.0f;                // (empty, +inf > -inf, unless a box reaches behind the camera)
@@ -112,8 +112,8 @@ constexpr float kBeyondAnyDepth = 1e30f;
 // the same order, no fused multiply-add.
 void fillInverseDirections(const SurfaceDepthBounds::BandView& band, const double ray_du[3], const double ray_dv[3],
                            const double ray_at_origin[3]);
-void fillInverseDirectionsAvx2(const SurfaceDepthBounds::BandView& band, const double ray_du[3],
-                               const double ray_dv[3], const double ray_at_origin[3]);
+void fillInverseDirectionsAvx2(const SurfaceDepthBounds::BandView& band, const double ray_du[3], const double ray_dv[3],
+                               const double ray_at_origin[3]);
 void clipRects(const SurfaceDepthBounds::BandView& band, const SurfaceDepthBounds::Rect* first,
                const SurfaceDepthBounds::Rect* last);
 void clipRectsAvx2(const SurfaceDepthBounds::BandView& band, const SurfaceDepthBounds::Rect* first,

@@ -53,8 +53,9 @@ SEMFUSE_AVX2 void fillInverseDirectionsAvx2(const SurfaceDepthBounds::BandView& 
         const __m256 column = _mm256_cvtepi32_ps(_mm256_add_epi32(_mm256_set1_epi32(u), lane));
         const __m256 inverse = _mm256_div_ps(one, _mm256_add_ps(_mm256_mul_ps(du, column), at_u0));
         // std::clamp(x, lo, hi): lo if x < lo, else hi if hi < x, else x.
-        const __m256 clamped = _mm256_blendv_ps(_mm256_blendv_ps(inverse, huge, _mm256_cmp_ps(huge, inverse, _CMP_LT_OQ)),
-                                                minus_huge, _mm256_cmp_ps(inverse, minus_huge, _CMP_LT_OQ));
+        const __m256 clamped =
+            _mm256_blendv_ps(_mm256_blendv_ps(inverse, huge, _mm256_cmp_ps(huge, inverse, _CMP_LT_OQ)), minus_huge,
+                             _mm256_cmp_ps(inverse, minus_huge, _CMP_LT_OQ));
         _mm256_storeu_ps(row + u, clamped);
       }
     }
@@ -98,10 +99,10 @@ SEMFUSE_AVX2 void clipRectsAvx2(const SurfaceDepthBounds::BandView& band, const 
         const __m256 beyond = copySign(beyond_any, _mm256_xor_ps(a_safe, sign_bit));
         const __m256 plane_enter = minLikeStd(t_plane, beyond);
         const __m256 plane_leave = maxLikeStd(t_plane, beyond);
-        const __m256 enter = maxLikeStd(
-            maxLikeStd(maxLikeStd(minLikeStd(x0, x1), minLikeStd(y0, y1)), minLikeStd(z0, z1)), plane_enter);
-        const __m256 leave = minLikeStd(
-            minLikeStd(minLikeStd(maxLikeStd(x0, x1), maxLikeStd(y0, y1)), maxLikeStd(z0, z1)), plane_leave);
+        const __m256 enter =
+            maxLikeStd(maxLikeStd(maxLikeStd(minLikeStd(x0, x1), minLikeStd(y0, y1)), minLikeStd(z0, z1)), plane_enter);
+        const __m256 leave =
+            minLikeStd(minLikeStd(minLikeStd(maxLikeStd(x0, x1), maxLikeStd(y0, y1)), maxLikeStd(z0, z1)), plane_leave);
         // (enter > leave) x kBeyondAnyDepth: exactly kBeyondAnyDepth or +0.
         const __m256 missed = _mm256_and_ps(_mm256_cmp_ps(enter, leave, _CMP_GT_OQ), beyond_any);
         const __m256 near_old = _mm256_loadu_ps(near_row + u), far_old = _mm256_loadu_ps(far_row + u);

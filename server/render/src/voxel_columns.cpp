@@ -9,7 +9,7 @@ namespace semfuse::render {
 namespace {
 
 std::atomic<RaycastKernel> g_kernel{detail::voxelColumnsAvx2Supported() ? RaycastKernel::kAvx2
-                                                                         : RaycastKernel::kScalar};
+                                                                        : RaycastKernel::kScalar};
 
 }  // namespace
 

@@ -11,11 +11,16 @@ namespace semfuse::tracking {
 
 const char* toString(TrackingStatus status) {
   switch (status) {
-    case TrackingStatus::kInitialized: return "initialized";
-    case TrackingStatus::kGivenPose: return "given pose";
-    case TrackingStatus::kRefined: return "refined";
-    case TrackingStatus::kTracked: return "tracked";
-    case TrackingStatus::kLost: return "lost";
+    case TrackingStatus::kInitialized:
+      return "initialized";
+    case TrackingStatus::kGivenPose:
+      return "given pose";
+    case TrackingStatus::kRefined:
+      return "refined";
+    case TrackingStatus::kTracked:
+      return "tracked";
+    case TrackingStatus::kLost:
+      return "lost";
   }
   return "unknown";
 }
@@ -32,16 +37,16 @@ Result<Pose> rigidGivenPose(const Pose& pose) {
   const Eigen::Matrix3d r = pose.linear();
   const double deviation = (r.transpose() * r - Eigen::Matrix3d::Identity()).norm();
   if (!(deviation <= kMaxNonOrthogonality) || !(r.determinant() > 0.0))
-    return makeError("frame pose rotation is not orthonormal with determinant +1 (|R^T R - I| = " +
-                     std::to_string(deviation) + ")");
+    return makeError(
+        "frame pose rotation is not orthonormal with determinant +1 (|R^T R - I| = " + std::to_string(deviation) + ")");
   return orthonormalized(pose);
 }
 
 void accept(CameraTrackState& state, const Pose& pose) {
   // Velocity only from two consecutive good frames; after a lost frame (or the first) the model
   // restarts at rest rather than extrapolating across the gap.
-  state.velocity = (state.initialized && state.lost_in_a_row == 0) ? state.last_pose.inverse() * pose
-                                                                   : Pose::Identity();
+  state.velocity =
+      (state.initialized && state.lost_in_a_row == 0) ? state.last_pose.inverse() * pose : Pose::Identity();
   state.last_pose = pose;
   state.initialized = true;
   state.lost_in_a_row = 0;
@@ -49,11 +54,10 @@ void accept(CameraTrackState& state, const Pose& pose) {
 
 }  // namespace
 
-Result<TrackedFrame> trackFrame(SdfTracker& tracker, const Frame& frame, const SdfField& field,
-                                CameraTrackState& state, GivenPosePolicy policy) {
+Result<TrackedFrame> trackFrame(SdfTracker& tracker, const Frame& frame, const SdfField& field, CameraTrackState& state,
+                                GivenPosePolicy policy) {
   TrackedFrame out;
-  if (Status status = validateDepthImage(frame.depth, frame.intrinsics); !status)
-    return makeError(status.error());
+  if (Status status = validateDepthImage(frame.depth, frame.intrinsics); !status) return makeError(status.error());
   std::optional<Pose> given;
   if (frame.camera_to_world) {
     Result<Pose> rigid = rigidGivenPose(*frame.camera_to_world);

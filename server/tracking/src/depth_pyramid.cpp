@@ -4,21 +4,19 @@
 #include <cmath>
 #include <string>
 
-#include <opencv2/core.hpp>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <opencv2/core.hpp>
 
 namespace semfuse::tracking {
 
 Status validateDepthImage(const cv::Mat& depth, const PinholeIntrinsics& k) {
   if (depth.empty()) return makeError("depth image is empty");
   if (depth.type() != CV_32FC1)
-    return makeError("depth image must be CV_32FC1 metres, got OpenCV type " +
-                     std::to_string(depth.type()));
+    return makeError("depth image must be CV_32FC1 metres, got OpenCV type " + std::to_string(depth.type()));
   if (depth.cols != k.width || depth.rows != k.height)
-    return makeError("depth image is " + std::to_string(depth.cols) + "x" +
-                     std::to_string(depth.rows) + " but the intrinsics say " +
-                     std::to_string(k.width) + "x" + std::to_string(k.height));
+    return makeError("depth image is " + std::to_string(depth.cols) + "x" + std::to_string(depth.rows) +
+                     " but the intrinsics say " + std::to_string(k.width) + "x" + std::to_string(k.height));
   if (!(k.fx > 0.0) || !(k.fy > 0.0) || !std::isfinite(k.cx) || !std::isfinite(k.cy))
     return makeError("intrinsics must have finite fx, fy > 0 and finite cx, cy");
   return Status::Ok();
@@ -32,8 +30,8 @@ Status validate(const cv::Mat& depth, const PinholeIntrinsics& k, const PyramidP
     return makeError("pyramid levels must be within 1.." + std::to_string(kMaxPyramidLevels) + ", got " +
                      std::to_string(p.levels));
   if ((k.width >> (p.levels - 1)) < 8 || (k.height >> (p.levels - 1)) < 8)
-    return makeError("image of " + std::to_string(k.width) + "x" + std::to_string(k.height) +
-                     " is too small for " + std::to_string(p.levels) + " pyramid levels");
+    return makeError("image of " + std::to_string(k.width) + "x" + std::to_string(k.height) + " is too small for " +
+                     std::to_string(p.levels) + " pyramid levels");
   if (!(p.min_depth_m >= 0.0f) || !(p.max_depth_m > p.min_depth_m))
     return makeError("depth range must satisfy 0 <= min_depth_m < max_depth_m");
   return Status::Ok();
@@ -87,8 +85,7 @@ void downsample(const cv::Mat& fine, cv::Mat& coarse, float merge_relative, floa
 
 }  // namespace
 
-Status DepthPyramid::build(const cv::Mat& depth, const PinholeIntrinsics& intrinsics,
-                           const PyramidParams& params) {
+Status DepthPyramid::build(const cv::Mat& depth, const PinholeIntrinsics& intrinsics, const PyramidParams& params) {
   if (Status status = validate(depth, intrinsics, params); !status) return status;
   levels_.resize(static_cast<std::size_t>(params.levels));
   levels_[0].intrinsics = intrinsics;
@@ -129,8 +126,8 @@ void DepthPyramid::backProject(Level& level, std::size_t max_points) {
     for (int u = stride / 2; u < depth.cols; u += stride) {
       const float z = row[u];
       if (z <= 0.0f) continue;
-      level.points.emplace_back((static_cast<float>(u) - cx) * z * inv_fx,
-                                (static_cast<float>(v) - cy) * z * inv_fy, z);
+      level.points.emplace_back((static_cast<float>(u) - cx) * z * inv_fx, (static_cast<float>(v) - cy) * z * inv_fy,
+                                z);
     }
   }
 }

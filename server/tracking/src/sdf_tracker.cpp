@@ -5,11 +5,11 @@
 #include <memory>
 #include <string>
 
-#include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_reduce.h>
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 
 #include "semfuse/tracking/se3.hpp"
 
@@ -17,12 +17,18 @@ namespace semfuse::tracking {
 
 const char* toString(LostReason reason) {
   switch (reason) {
-    case LostReason::kNone: return "none";
-    case LostReason::kNoValidDepth: return "no valid depth";
-    case LostReason::kTooFewInliers: return "too few inliers";
-    case LostReason::kHighResidual: return "high residual";
-    case LostReason::kDegenerate: return "degenerate geometry";
-    case LostReason::kDiverged: return "diverged";
+    case LostReason::kNone:
+      return "none";
+    case LostReason::kNoValidDepth:
+      return "no valid depth";
+    case LostReason::kTooFewInliers:
+      return "too few inliers";
+    case LostReason::kHighResidual:
+      return "high residual";
+    case LostReason::kDegenerate:
+      return "degenerate geometry";
+    case LostReason::kDiverged:
+      return "diverged";
   }
   return "unknown";
 }
@@ -48,8 +54,8 @@ struct ResidualModel {
 
 // One parallel pass: residuals D(T p) and Jacobians over all points of a level. For a point moved
 // by a left increment, d/dxi D(exp(xi) q) at xi = 0 is grad^T [I | -[q]x] = (grad, q x grad).
-NormalEquations accumulate(const std::vector<Eigen::Vector3f>& points, Samplers& samplers,
-                           const ResidualModel& model, const Pose& pose) {
+NormalEquations accumulate(const std::vector<Eigen::Vector3f>& points, Samplers& samplers, const ResidualModel& model,
+                           const Pose& pose) {
   const Eigen::Matrix3f rotation = pose.linear().cast<float>();
   const Eigen::Vector3f translation = pose.translation().cast<float>();
   return tbb::parallel_reduce(
@@ -98,15 +104,13 @@ Status SdfTracker::validate(const TrackerParams& p) {
   return Status::Ok();
 }
 
-Result<Alignment> SdfTracker::align(const cv::Mat& depth, const PinholeIntrinsics& intrinsics,
-                                    const SdfField& field, const Pose& guess) {
+Result<Alignment> SdfTracker::align(const cv::Mat& depth, const PinholeIntrinsics& intrinsics, const SdfField& field,
+                                    const Pose& guess) {
   if (Status status = validate(params_); !status) return makeError("tracker parameters: " + status.error());
   if (!guess.matrix().allFinite()) return makeError("starting pose is not finite");
   const float truncation = field.truncation();
-  if (!(truncation > 0.0f) || !std::isfinite(truncation))
-    return makeError("field truncation must be finite and > 0");
-  if (Status status = pyramid_.build(depth, intrinsics, params_.pyramid); !status)
-    return makeError(status.error());
+  if (!(truncation > 0.0f) || !std::isfinite(truncation)) return makeError("field truncation must be finite and > 0");
+  if (Status status = pyramid_.build(depth, intrinsics, params_.pyramid); !status) return makeError(status.error());
 
   Alignment result;
   result.pose = guess;
@@ -115,8 +119,8 @@ Result<Alignment> SdfTracker::align(const cv::Mat& depth, const PinholeIntrinsic
     return result;
   }
 
-  const ResidualModel model{params_.loss, params_.robust_scale * truncation,
-                            params_.band_fraction * truncation, params_.inlier_fraction * truncation};
+  const ResidualModel model{params_.loss, params_.robust_scale * truncation, params_.band_fraction * truncation,
+                            params_.inlier_fraction * truncation};
   // One sampler per worker thread for the whole frame: the field does not change while aligning.
   Samplers samplers([&field] { return field.makeSampler(); });
 
@@ -151,8 +155,7 @@ TrackingQuality SdfTracker::assess(const NormalEquations& system) const {
   q.inliers = system.inliers;
   q.inlier_ratio = q.points > 0 ? static_cast<double>(q.inliers) / static_cast<double>(q.points) : 0.0;
   q.observed = system.observed;
-  q.observed_agreement =
-      q.observed > 0 ? static_cast<double>(q.inliers) / static_cast<double>(q.observed) : 0.0;
+  q.observed_agreement = q.observed > 0 ? static_cast<double>(q.inliers) / static_cast<double>(q.observed) : 0.0;
   q.rms_residual_m = q.inliers > 0 ? std::sqrt(system.inlier_sq_sum / static_cast<double>(q.inliers)) : 0.0;
   if (system.residuals == 0) return q;
   // Rotational columns of J are (q x grad), metres times the translational ones; scaling them by
@@ -161,21 +164,18 @@ TrackingQuality SdfTracker::assess(const NormalEquations& system) const {
   const double length = std::max(pyramid_.meanDepth(), 0.1);
   Eigen::Matrix<double, 6, 1> scale;
   scale << 1.0, 1.0, 1.0, 1.0 / length, 1.0 / length, 1.0 / length;
-  const Matrix6d scaled = scale.asDiagonal() * system.hessian() * scale.asDiagonal() /
-                          static_cast<double>(system.residuals);
+  const Matrix6d scaled =
+      scale.asDiagonal() * system.hessian() * scale.asDiagonal() / static_cast<double>(system.residuals);
   const Eigen::SelfAdjointEigenSolver<Matrix6d> eigen(scaled, Eigen::EigenvaluesOnly);
   q.hessian_min_eigenvalue = eigen.eigenvalues()(0);
   q.hessian_max_eigenvalue = eigen.eigenvalues()(5);
-  q.hessian_rcond = q.hessian_max_eigenvalue > 0.0
-                        ? std::max(q.hessian_min_eigenvalue, 0.0) / q.hessian_max_eigenvalue
-                        : 0.0;
+  q.hessian_rcond =
+      q.hessian_max_eigenvalue > 0.0 ? std::max(q.hessian_min_eigenvalue, 0.0) / q.hessian_max_eigenvalue : 0.0;
   return q;
 }
 
-LostReason SdfTracker::judge(const TrackingQuality& q, float truncation, const Pose& guess,
-                             const Pose& result) const {
-  if (q.inliers < params_.min_inliers || q.inlier_ratio < params_.min_inlier_ratio)
-    return LostReason::kTooFewInliers;
+LostReason SdfTracker::judge(const TrackingQuality& q, float truncation, const Pose& guess, const Pose& result) const {
+  if (q.inliers < params_.min_inliers || q.inlier_ratio < params_.min_inlier_ratio) return LostReason::kTooFewInliers;
   if (q.hessian_rcond < params_.min_hessian_rcond) return LostReason::kDegenerate;
   if (q.rms_residual_m > params_.max_rms_fraction * truncation) return LostReason::kHighResidual;
   // In the camera frame, so the translation is how far the camera centre moved (a world-frame

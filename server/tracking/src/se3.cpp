@@ -30,8 +30,7 @@ Eigen::Isometry3d expSE3(const Vector6d& xi) {
     b = (theta - std::sin(theta)) / (t2 * theta);
   }
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = theta > 0.0 ? Eigen::AngleAxisd(theta, w / theta).toRotationMatrix()
-                           : Eigen::Matrix3d::Identity();
+  T.linear() = theta > 0.0 ? Eigen::AngleAxisd(theta, w / theta).toRotationMatrix() : Eigen::Matrix3d::Identity();
   T.translation() = (Eigen::Matrix3d::Identity() + a * W + b * W * W) * v;
   return T;
 }

@@ -17,8 +17,6 @@ class VolumeFieldSampler final : public SdfSampler {
 };
 }  // namespace
 
-std::unique_ptr<SdfSampler> VolumeField::makeSampler() const {
-  return std::make_unique<VolumeFieldSampler>(*volume_);
-}
+std::unique_ptr<SdfSampler> VolumeField::makeSampler() const { return std::make_unique<VolumeFieldSampler>(*volume_); }
 
 }  // namespace semfuse::tracking

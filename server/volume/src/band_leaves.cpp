@@ -57,8 +57,8 @@ std::vector<openvdb::Coord> bandLeafOrigins(const FrameView& frame, double voxel
   // the leaf holding point p (voxel units) is floor((p + 0.5) / 8), the unit cell of q = (p + 0.5) / 8.
   const float inv_leaf = static_cast<float>(1.0 / (voxel_size * (1 << kLeafLog2)));
   const Eigen::Matrix3f rotation = frame.camera_to_world_rotation * inv_leaf;
-  const Eigen::Vector3f origin = frame.camera_to_world_translation * inv_leaf +
-                                 Eigen::Vector3f::Constant(0.5f / (1 << kLeafLog2));
+  const Eigen::Vector3f origin =
+      frame.camera_to_world_translation * inv_leaf + Eigen::Vector3f::Constant(0.5f / (1 << kLeafLog2));
 
   tbb::enumerable_thread_specific<KeyTree> trees;
   const int rows = (frame.height + pixel_stride - 1) / pixel_stride;

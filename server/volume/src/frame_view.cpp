@@ -17,8 +17,7 @@ Status checkIntrinsics(const PinholeIntrinsics& k) {
   if (!std::isfinite(k.fx) || !std::isfinite(k.fy) || k.fx <= 0 || k.fy <= 0)
     return makeError("intrinsics: focal lengths must be finite and positive, got fx=" + std::to_string(k.fx) +
                      " fy=" + std::to_string(k.fy));
-  if (!std::isfinite(k.cx) || !std::isfinite(k.cy))
-    return makeError("intrinsics: principal point must be finite");
+  if (!std::isfinite(k.cx) || !std::isfinite(k.cy)) return makeError("intrinsics: principal point must be finite");
   return Status::Ok();
 }
 
@@ -47,23 +46,26 @@ int powerOfTwoRatio(int image, int labels) {
 }  // namespace
 
 Result<FrameView> makeFrameView(const VolumeParams& params, const cv::Mat& depth, const cv::Mat& color,
-                                const cv::Mat& labels, const cv::Mat& confidence,
-                                const PinholeIntrinsics& intrinsics, const Pose& camera_to_world) {
+                                const cv::Mat& labels, const cv::Mat& confidence, const PinholeIntrinsics& intrinsics,
+                                const Pose& camera_to_world) {
   if (Status s = checkIntrinsics(intrinsics); !s) return makeError(s.error());
   if (Status s = checkPose(camera_to_world); !s) return makeError(s.error());
   if (depth.empty()) return makeError("depth: image is empty");
-  if (depth.type() != CV_32FC1) return makeError("depth: expected CV_32FC1 (metres), got type " + std::to_string(depth.type()));
+  if (depth.type() != CV_32FC1)
+    return makeError("depth: expected CV_32FC1 (metres), got type " + std::to_string(depth.type()));
   if (depth.cols != intrinsics.width || depth.rows != intrinsics.height)
     return makeError("depth: size " + sizeOf(depth) + " differs from the intrinsics' " +
                      std::to_string(intrinsics.width) + "x" + std::to_string(intrinsics.height));
   if (!color.empty()) {
-    if (color.type() != CV_8UC3) return makeError("color: expected CV_8UC3 (RGB), got type " + std::to_string(color.type()));
+    if (color.type() != CV_8UC3)
+      return makeError("color: expected CV_8UC3 (RGB), got type " + std::to_string(color.type()));
     if (color.size() != depth.size())
       return makeError("color: size " + sizeOf(color) + " differs from the depth's " + sizeOf(depth));
   }
   if (labels.empty() && !confidence.empty()) return makeError("confidence given without labels");
   if (!labels.empty()) {
-    if (labels.type() != CV_16UC1) return makeError("labels: expected CV_16UC1, got type " + std::to_string(labels.type()));
+    if (labels.type() != CV_16UC1)
+      return makeError("labels: expected CV_16UC1, got type " + std::to_string(labels.type()));
     if (labels.cols > depth.cols || labels.rows > depth.rows)
       return makeError("labels: size " + sizeOf(labels) + " is larger than the depth's " + sizeOf(depth));
     if (!confidence.empty()) {

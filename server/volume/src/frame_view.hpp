@@ -43,7 +43,7 @@ struct FrameView {
 
 // Checks every input and builds the view; the error names the offending input.
 Result<FrameView> makeFrameView(const VolumeParams& params, const cv::Mat& depth, const cv::Mat& color,
-                                const cv::Mat& labels, const cv::Mat& confidence,
-                                const PinholeIntrinsics& intrinsics, const Pose& camera_to_world);
+                                const cv::Mat& labels, const cv::Mat& confidence, const PinholeIntrinsics& intrinsics,
+                                const Pose& camera_to_world);
 
 }  // namespace semfuse::volume::detail

@@ -23,16 +23,15 @@ using detail::KernelCounts;
 using detail::LeafPair;
 
 // The widest kernel this CPU runs, unless setIntegrationKernel() chose another; read once per call.
-std::atomic<IntegrationKernel> g_kernel{integrationKernelAvailable(IntegrationKernel::kAvx2)
-                                            ? IntegrationKernel::kAvx2
-                                            : IntegrationKernel::kScalar};
+std::atomic<IntegrationKernel> g_kernel{
+    integrationKernelAvailable(IntegrationKernel::kAvx2) ? IntegrationKernel::kAvx2 : IntegrationKernel::kScalar};
 
 template <bool kGeometry, bool kColor, bool kLabels>
 void updateLeaves(const std::vector<LeafPair>& leaves, const FrameView& frame, const KernelConfig& config,
                   IntegrationStats& stats) {
   // The kernel is chosen per frame, not per leaf: one branch per call instead of per leaf.
-  const bool wide = g_kernel.load(std::memory_order_relaxed) == IntegrationKernel::kAvx2 &&
-                    detail::avx2KernelSupported(frame);
+  const bool wide =
+      g_kernel.load(std::memory_order_relaxed) == IntegrationKernel::kAvx2 && detail::avx2KernelSupported(frame);
   const auto update_leaf = wide ? &detail::updateLeafAvx2<kGeometry, kColor, kLabels>
                                 : &detail::updateLeafScalar<kGeometry, kColor, kLabels>;
   std::atomic<std::size_t> updated{0}, labeled{0};
@@ -61,8 +60,12 @@ std::size_t countValidPixels(const FrameView& frame) {
 }
 
 KernelConfig kernelConfig(const VolumeParams& params, const IgnoredLabels* ignored) {
-  return {static_cast<float>(params.voxel_size), static_cast<float>(params.truncation), params.max_weight,
-          params.max_label_score, ignored, params.labelRuleConfig()};
+  return {static_cast<float>(params.voxel_size),
+          static_cast<float>(params.truncation),
+          params.max_weight,
+          params.max_label_score,
+          ignored,
+          params.labelRuleConfig()};
 }
 
 }  // namespace
@@ -77,8 +80,7 @@ Result<IntegrationStats> integrate(LabeledVolume& volume, const cv::Mat& depth, 
 
   IntegrationStats stats;
   stats.valid_pixels = countValidPixels(frame);
-  const std::vector<openvdb::Coord> origins =
-      detail::bandLeafOrigins(frame, params.voxel_size, params.truncation);
+  const std::vector<openvdb::Coord> origins = detail::bandLeafOrigins(frame, params.voxel_size, params.truncation);
   stats.leaves_touched = origins.size();
 
   // Allocation is serial: a few thousand leaves per frame, and OpenVDB trees are not safe to grow
@@ -98,8 +100,8 @@ Result<IntegrationStats> integrate(LabeledVolume& volume, const cv::Mat& depth, 
       leaf = geometry.touchLeaf(origin);
       ++stats.leaves_allocated;
     }
-    leaves.push_back({leaf, colors ? colors->touchLeaf(origin) : nullptr,
-                      sidecars ? sidecars->touchLeaf(origin) : nullptr});
+    leaves.push_back(
+        {leaf, colors ? colors->touchLeaf(origin) : nullptr, sidecars ? sidecars->touchLeaf(origin) : nullptr});
   }
 
   const std::unique_ptr<IgnoredLabels> ignored = detail::ignoredLabels(params);
@@ -116,10 +118,11 @@ Result<IntegrationStats> integrate(LabeledVolume& volume, const cv::Mat& depth, 
 }
 
 Result<IntegrationStats> integrate(LabeledVolume& volume, const Frame& frame, const Segmentation* segmentation) {
-  if (!frame.camera_to_world) return makeError("frame " + std::to_string(frame.seq) + " carries no camera_to_world pose");
+  if (!frame.camera_to_world)
+    return makeError("frame " + std::to_string(frame.seq) + " carries no camera_to_world pose");
   if (segmentation)
-    return integrate(volume, frame.depth, frame.color, segmentation->labels, segmentation->confidence,
-                     frame.intrinsics, *frame.camera_to_world);
+    return integrate(volume, frame.depth, frame.color, segmentation->labels, segmentation->confidence, frame.intrinsics,
+                     *frame.camera_to_world);
   return integrate(volume, frame.depth, frame.color, cv::Mat(), cv::Mat(), frame.intrinsics, *frame.camera_to_world);
 }
 
@@ -134,8 +137,7 @@ Result<IntegrationStats> integrateLabels(LabeledVolume& volume, const cv::Mat& d
 
   IntegrationStats stats;
   stats.valid_pixels = countValidPixels(frame);
-  const std::vector<openvdb::Coord> origins =
-      detail::bandLeafOrigins(frame, params.voxel_size, params.truncation);
+  const std::vector<openvdb::Coord> origins = detail::bandLeafOrigins(frame, params.voxel_size, params.truncation);
   stats.leaves_touched = origins.size();
   std::vector<LeafPair> leaves;
   leaves.reserve(origins.size());

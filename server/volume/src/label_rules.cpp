@@ -11,9 +11,12 @@ Result<LabelRule> parseLabelRule(const std::string& text) {
 
 const char* labelRuleName(LabelRule rule) {
   switch (rule) {
-    case LabelRule::kEvidence: return "evidence";
-    case LabelRule::kMajority: return "majority";
-    case LabelRule::kBayes: return "bayes";
+    case LabelRule::kEvidence:
+      return "evidence";
+    case LabelRule::kMajority:
+      return "majority";
+    case LabelRule::kBayes:
+      return "bayes";
   }
   return "unknown";
 }

@@ -10,8 +10,8 @@
 #include <cstdint>
 #include <memory>
 
-#include <Eigen/Core>
 #include <openvdb/openvdb.h>
+#include <Eigen/Core>
 
 #include "frame_view.hpp"
 #include "semfuse/volume/label_rules.hpp"
@@ -80,9 +80,9 @@ struct LeafInCamera {
 inline LeafInCamera leafInCamera(const GeometryLeaf& leaf, const FrameView& frame, float voxel_size) {
   const openvdb::Coord origin = leaf.origin();
   const Eigen::Matrix3f& rotation = frame.world_to_camera_rotation;
-  return {rotation * (Eigen::Vector3f(origin.x(), origin.y(), origin.z()) * voxel_size) +
-              frame.world_to_camera_translation,
-          rotation.col(0) * voxel_size, rotation.col(1) * voxel_size, rotation.col(2) * voxel_size};
+  return {
+      rotation * (Eigen::Vector3f(origin.x(), origin.y(), origin.z()) * voxel_size) + frame.world_to_camera_translation,
+      rotation.col(0) * voxel_size, rotation.col(1) * voxel_size, rotation.col(2) * voxel_size};
 }
 
 // Camera coordinates of the first voxel of column (x, y) of a leaf.

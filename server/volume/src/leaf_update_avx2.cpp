@@ -14,8 +14,8 @@
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #define SEMFUSE_HAVE_AVX2_KERNEL 1
-#include <immintrin.h>
 #include <cpuid.h>
+#include <immintrin.h>
 #else
 #define SEMFUSE_HAVE_AVX2_KERNEL 0
 #endif
@@ -39,7 +39,8 @@ SEMFUSE_AVX2 inline ColumnVoxels loadColumn(const PackedVoxel* voxels) {
   const __m256 b = _mm256_castsi256_ps(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(voxels + 4)));
   const __m256i low = _mm256_castps_si256(_mm256_shuffle_ps(a, b, _MM_SHUFFLE(2, 0, 2, 0)));
   const __m256i high = _mm256_castps_si256(_mm256_shuffle_ps(a, b, _MM_SHUFFLE(3, 1, 3, 1)));
-  return {_mm256_permute4x64_epi64(low, _MM_SHUFFLE(3, 1, 2, 0)), _mm256_permute4x64_epi64(high, _MM_SHUFFLE(3, 1, 2, 0))};
+  return {_mm256_permute4x64_epi64(low, _MM_SHUFFLE(3, 1, 2, 0)),
+          _mm256_permute4x64_epi64(high, _MM_SHUFFLE(3, 1, 2, 0))};
 }
 
 SEMFUSE_AVX2 inline void storeColumn(PackedVoxel* voxels, const ColumnVoxels& c) {
@@ -61,8 +62,10 @@ SEMFUSE_AVX2 inline __m256i floatsToHalves(__m256 values) {
 }
 
 // One colour channel of the running average: (old * weight + new) / new_weight, rounded.
-SEMFUSE_AVX2 inline __m256i blendChannel(__m256i old_channel, __m256i new_channel, __m256 weight, __m256 inv_new_weight) {
-  const __m256 sum = _mm256_add_ps(_mm256_mul_ps(_mm256_cvtepi32_ps(old_channel), weight), _mm256_cvtepi32_ps(new_channel));
+SEMFUSE_AVX2 inline __m256i blendChannel(__m256i old_channel, __m256i new_channel, __m256 weight,
+                                         __m256 inv_new_weight) {
+  const __m256 sum =
+      _mm256_add_ps(_mm256_mul_ps(_mm256_cvtepi32_ps(old_channel), weight), _mm256_cvtepi32_ps(new_channel));
   return _mm256_cvttps_epi32(_mm256_add_ps(_mm256_mul_ps(sum, inv_new_weight), _mm256_set1_ps(0.5f)));
 }
 
@@ -85,7 +88,7 @@ bool evidenceGatherable(const FrameView& frame, const KernelConfig& config) {
 // are (ui, vi): what applyPixelLabel() does per voxel, 8 voxels at a time. Returns the lanes it
 // changed (label neither ignored nor with a confidence that is <= 0 or not finite).
 SEMFUSE_AVX2 inline unsigned fuseEvidence(__m256i& high, unsigned lanes, __m256i ui, __m256i vi, const FrameView& frame,
-                                         const KernelConfig& config) {
+                                          const KernelConfig& config) {
   const __m256i zero = _mm256_setzero_si256();
   const __m256i mask = laneMask(lanes);
   // Label pixel of each depth pixel: a shift where the sizes allow (no dependent gather), else the table.
@@ -98,17 +101,21 @@ SEMFUSE_AVX2 inline unsigned fuseEvidence(__m256i& high, unsigned lanes, __m256i
   // A label is 16 bits, read as the low half of a 32-bit load; in the last label column that load
   // would pass the row's end, so it starts one label earlier and shifts the other one off.
   const __m256i in_last_column = _mm256_cmpeq_epi32(lu, _mm256_set1_epi32(frame.label_width - 1));
-  const __m256i label_index = _mm256_add_epi32(_mm256_mullo_epi32(lv, _mm256_set1_epi32(static_cast<int>(frame.label_stride))), lu);
+  const __m256i label_index =
+      _mm256_add_epi32(_mm256_mullo_epi32(lv, _mm256_set1_epi32(static_cast<int>(frame.label_stride))), lu);
   const __m256i label_bytes =
       _mm256_add_epi32(_mm256_slli_epi32(label_index, 1), _mm256_add_epi32(in_last_column, in_last_column));
-  const __m256i raw = _mm256_mask_i32gather_epi32(zero, reinterpret_cast<const int*>(frame.labels), label_bytes, mask, 1);
-  const __m256i observed = _mm256_and_si256(_mm256_srlv_epi32(raw, _mm256_and_si256(in_last_column, _mm256_set1_epi32(16))),
-                                            _mm256_set1_epi32(0xFFFF));
+  const __m256i raw =
+      _mm256_mask_i32gather_epi32(zero, reinterpret_cast<const int*>(frame.labels), label_bytes, mask, 1);
+  const __m256i observed = _mm256_and_si256(
+      _mm256_srlv_epi32(raw, _mm256_and_si256(in_last_column, _mm256_set1_epi32(16))), _mm256_set1_epi32(0xFFFF));
   const __m256 w =
       frame.confidence
-          ? _mm256_mask_i32gather_ps(_mm256_setzero_ps(), frame.confidence,
-                                     _mm256_add_epi32(_mm256_mullo_epi32(lv, _mm256_set1_epi32(static_cast<int>(frame.confidence_stride))), lu),
-                                     _mm256_castsi256_ps(mask), 4)
+          ? _mm256_mask_i32gather_ps(
+                _mm256_setzero_ps(), frame.confidence,
+                _mm256_add_epi32(_mm256_mullo_epi32(lv, _mm256_set1_epi32(static_cast<int>(frame.confidence_stride))),
+                                 lu),
+                _mm256_castsi256_ps(mask), 4)
           : _mm256_set1_ps(1.0f);
   __m256i ignored;
   if (config.ignored->onlyUnlabeled()) {
@@ -121,8 +128,9 @@ SEMFUSE_AVX2 inline unsigned fuseEvidence(__m256i& high, unsigned lanes, __m256i
     ignored = _mm256_cmpeq_epi32(bit, _mm256_set1_epi32(1));
   }
   // 0 < w < inf is false for NaN, as the scalar w > 0 && isfinite(w).
-  const __m256 usable = _mm256_and_ps(_mm256_cmp_ps(w, _mm256_setzero_ps(), _CMP_GT_OQ),
-                                      _mm256_cmp_ps(w, _mm256_set1_ps(std::numeric_limits<float>::infinity()), _CMP_LT_OQ));
+  const __m256 usable =
+      _mm256_and_ps(_mm256_cmp_ps(w, _mm256_setzero_ps(), _CMP_GT_OQ),
+                    _mm256_cmp_ps(w, _mm256_set1_ps(std::numeric_limits<float>::infinity()), _CMP_LT_OQ));
   const __m256i fuse = _mm256_andnot_si256(ignored, _mm256_and_si256(mask, _mm256_castps_si256(usable)));
   const auto fused_lanes = static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(fuse)));
   if (fused_lanes == 0) return 0;
@@ -133,8 +141,8 @@ SEMFUSE_AVX2 inline unsigned fuseEvidence(__m256i& high, unsigned lanes, __m256i
   const __m256 take = _mm256_or_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(label, zero)),
                                    _mm256_cmp_ps(score, _mm256_setzero_ps(), _CMP_LT_OQ));
   const __m256 same = _mm256_castsi256_ps(_mm256_cmpeq_epi32(label, observed));
-  const __m256 kept_score = _mm256_blendv_ps(_mm256_sub_ps(score, w),
-                                             _mm256_min_ps(_mm256_add_ps(score, w), _mm256_set1_ps(config.max_score)), same);
+  const __m256 kept_score = _mm256_blendv_ps(
+      _mm256_sub_ps(score, w), _mm256_min_ps(_mm256_add_ps(score, w), _mm256_set1_ps(config.max_score)), same);
   const __m256 new_score = _mm256_blendv_ps(kept_score, w, take);
   const __m256i new_label = _mm256_blendv_epi8(label, observed, _mm256_castps_si256(take));
   const __m256i new_high = _mm256_or_si256(new_label, _mm256_slli_epi32(floatsToHalves(new_score), 16));
@@ -179,8 +187,10 @@ SEMFUSE_AVX2 KernelCounts updateLeaf(const LeafPair& leaf, const FrameView& fram
       // Projection, exactly the scalar kernel's expression tree: u = fx * (px + sx * z) / cz + cx.
       const __m256 cz = _mm256_add_ps(_mm256_set1_ps(p.z()), dz_z);
       const __m256 inv_z = _mm256_div_ps(one, cz);
-      const __m256 u = _mm256_add_ps(_mm256_mul_ps(_mm256_mul_ps(fx, _mm256_add_ps(_mm256_set1_ps(p.x()), dz_x)), inv_z), cx);
-      const __m256 v = _mm256_add_ps(_mm256_mul_ps(_mm256_mul_ps(fy, _mm256_add_ps(_mm256_set1_ps(p.y()), dz_y)), inv_z), cy);
+      const __m256 u =
+          _mm256_add_ps(_mm256_mul_ps(_mm256_mul_ps(fx, _mm256_add_ps(_mm256_set1_ps(p.x()), dz_x)), inv_z), cx);
+      const __m256 v =
+          _mm256_add_ps(_mm256_mul_ps(_mm256_mul_ps(fy, _mm256_add_ps(_mm256_set1_ps(p.y()), dz_y)), inv_z), cy);
       // Ordered compares: NaN (cz = 0) is outside, as in the scalar code.
       const __m256 in_image = _mm256_and_ps(
           _mm256_and_ps(_mm256_cmp_ps(cz, zero, _CMP_GT_OQ),
@@ -213,24 +223,25 @@ SEMFUSE_AVX2 KernelCounts updateLeaf(const LeafPair& leaf, const FrameView& fram
           // The pixel's R, G, B are bytes 0-2 of a 32-bit load at 3 * u; in the last column that
           // load would pass the row's end, so it starts one byte earlier and shifts the byte off.
           const __m256i in_last_column = _mm256_cmpeq_epi32(ui, last_column);
-          const __m256i rgb_offset = _mm256_add_epi32(_mm256_add_epi32(_mm256_mullo_epi32(vi, color_stride),
-                                                                       _mm256_mullo_epi32(ui, _mm256_set1_epi32(3))),
-                                                      in_last_column);  // -1 there
-          const __m256i rgb_raw = _mm256_mask_i32gather_epi32(_mm256_setzero_si256(), reinterpret_cast<const int*>(frame.color),
-                                                              rgb_offset, _mm256_castps_si256(update), 1);
+          const __m256i rgb_offset = _mm256_add_epi32(
+              _mm256_add_epi32(_mm256_mullo_epi32(vi, color_stride), _mm256_mullo_epi32(ui, _mm256_set1_epi32(3))),
+              in_last_column);  // -1 there
+          const __m256i rgb_raw =
+              _mm256_mask_i32gather_epi32(_mm256_setzero_si256(), reinterpret_cast<const int*>(frame.color), rgb_offset,
+                                          _mm256_castps_si256(update), 1);
           const __m256i rgb = _mm256_srlv_epi32(rgb_raw, _mm256_and_si256(in_last_column, _mm256_set1_epi32(8)));
           PackedColor* color_column = colors + row_offset;
           const __m256i old = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(color_column));
-          const __m256i r = blendChannel(_mm256_and_si256(_mm256_srli_epi32(old, 16), byte), _mm256_and_si256(rgb, byte),
-                                         weight, inv_new_weight);
+          const __m256i r = blendChannel(_mm256_and_si256(_mm256_srli_epi32(old, 16), byte),
+                                         _mm256_and_si256(rgb, byte), weight, inv_new_weight);
           const __m256i g = blendChannel(_mm256_and_si256(_mm256_srli_epi32(old, 8), byte),
                                          _mm256_and_si256(_mm256_srli_epi32(rgb, 8), byte), weight, inv_new_weight);
-          const __m256i b = blendChannel(_mm256_and_si256(old, byte), _mm256_and_si256(_mm256_srli_epi32(rgb, 16), byte),
-                                         weight, inv_new_weight);
+          const __m256i b = blendChannel(_mm256_and_si256(old, byte),
+                                         _mm256_and_si256(_mm256_srli_epi32(rgb, 16), byte), weight, inv_new_weight);
           // static_cast<uint8_t> of the scalar kernel keeps the low byte.
-          const __m256i blended = _mm256_or_si256(
-              _mm256_or_si256(_mm256_slli_epi32(_mm256_and_si256(r, byte), 16), _mm256_slli_epi32(_mm256_and_si256(g, byte), 8)),
-              _mm256_and_si256(b, byte));
+          const __m256i blended = _mm256_or_si256(_mm256_or_si256(_mm256_slli_epi32(_mm256_and_si256(r, byte), 16),
+                                                                  _mm256_slli_epi32(_mm256_and_si256(g, byte), 8)),
+                                                  _mm256_and_si256(b, byte));
           _mm256_storeu_si256(reinterpret_cast<__m256i*>(color_column),
                               _mm256_blendv_epi8(old, blended, _mm256_castps_si256(update)));
         }
@@ -248,7 +259,8 @@ SEMFUSE_AVX2 KernelCounts updateLeaf(const LeafPair& leaf, const FrameView& fram
         const auto label_lanes =
             update_lanes & static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(sdf, truncation, _CMP_LT_OQ)));
         if (label_lanes != 0 && vector_evidence) {
-          counts.labeled += static_cast<std::size_t>(__builtin_popcount(fuseEvidence(bits.high, label_lanes, ui, vi, frame, config)));
+          counts.labeled +=
+              static_cast<std::size_t>(__builtin_popcount(fuseEvidence(bits.high, label_lanes, ui, vi, frame, config)));
         } else if (label_lanes != 0) {  // the top-5 rules: per voxel, with the sidecar
           alignas(32) uint32_t low[kLeafDim], high[kLeafDim];
           alignas(32) int col[kLeafDim], row[kLeafDim];

@@ -63,7 +63,8 @@ Result<std::vector<LabelInfo>> decodeLegend(const std::string& text) {
       return makeError("legend: malformed line '" + line + "'");
     std::string name;
     std::getline(in >> std::ws, name);
-    labels.push_back({static_cast<LabelId>(id), name, {static_cast<uint8_t>(r), static_cast<uint8_t>(g), static_cast<uint8_t>(b)}});
+    labels.push_back(
+        {static_cast<LabelId>(id), name, {static_cast<uint8_t>(r), static_cast<uint8_t>(g), static_cast<uint8_t>(b)}});
   }
   return labels;
 }
@@ -245,8 +246,8 @@ Result<LoadedMap> readMap(const fs::path& path) {
   auto version = required<int32_t>(*meta, "semfuse:format_version");
   if (!version) return makeError("not a semfuse map: " + version.error());
   if (version.value() < 1 || version.value() > kMapFormatVersion)
-    return makeError("map format version " + std::to_string(version.value()) + " is not supported (this build reads 1.." +
-                     std::to_string(kMapFormatVersion) + ")");
+    return makeError("map format version " + std::to_string(version.value()) +
+                     " is not supported (this build reads 1.." + std::to_string(kMapFormatVersion) + ")");
 
   VolumeParams params;
   auto voxel = required<double>(*meta, "semfuse:voxel_size");
@@ -292,7 +293,8 @@ Result<LoadedMap> readMap(const fs::path& path) {
   if (frames.value() < 0) return makeError("metadata 'semfuse:frames_integrated' is negative");
 
   detail::MapLayers layers{findGrid<openvdb::FloatGrid>(*grids, "tsdf"), findGrid<openvdb::FloatGrid>(*grids, "weight"),
-                           findGrid<openvdb::FloatGrid>(*grids, "score"), findGrid<openvdb::Int32Grid>(*grids, "label")};
+                           findGrid<openvdb::FloatGrid>(*grids, "score"),
+                           findGrid<openvdb::Int32Grid>(*grids, "label")};
   if (!layers.tsdf || !layers.weight || !layers.score || !layers.label)
     return makeError("a float grid 'tsdf', 'weight', 'score' or an int32 grid 'label' is missing");
   auto packed = detail::mergeLayers(layers);
@@ -332,8 +334,10 @@ Result<LoadedMap> readMap(const fs::path& path) {
   auto legend_bg = parseIds(legend_background.value(), "semfuse:legend_background");
   if (!legend_bg) return makeError(legend_bg.error());
 
-  LoadedMap map{std::move(created).value(), LabelLegend{legend_name.value(), legend_labels.value(), legend_bg.value()},
-                {}, version.value()};
+  LoadedMap map{std::move(created).value(),
+                LabelLegend{legend_name.value(), legend_labels.value(), legend_bg.value()},
+                {},
+                version.value()};
   map.volume.mutableGeometryGrid().setTree(packed.value());
   if (color_grid) map.volume.mutableColorGrid()->setTree(color_grid->treePtr());
   if (sidecar_grid) map.volume.mutableLabelSidecarGrid()->setTree(sidecar_grid->treePtr());
@@ -373,8 +377,8 @@ Status saveMap(const LabeledVolume& volume, const LabelLegend& legend, const fs:
   openvdb::GridCPtrVec grids{layers.tsdf, layers.weight, layers.score, layers.label};
   if (volume.colorGrid()) grids.push_back(volume.colorGridPtr());
   if (volume.labelSidecarGrid()) grids.push_back(volume.labelSidecarGridPtr());
-  const uint64_t checksum = detail::voxelChecksum(volume.geometryGrid().tree(),
-                                                  volume.colorGrid() ? &volume.colorGrid()->tree() : nullptr);
+  const uint64_t checksum =
+      detail::voxelChecksum(volume.geometryGrid().tree(), volume.colorGrid() ? &volume.colorGrid()->tree() : nullptr);
   removeStaleTemporaries(path);
   return writeAtomically(path, grids, fileMetadata(volume, legend, legend_text.value(), checksum, extra));
 }

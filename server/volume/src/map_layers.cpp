@@ -15,7 +15,8 @@ constexpr openvdb::Index kLeafSize = GeometryLeaf::SIZE;
 template <typename GridT>
 typename GridT::Ptr layerLike(const LabeledVolume& volume, typename GridT::ValueType background, const char* name) {
   // TopologyCopy keeps every allocated leaf and its active mask, observed or not.
-  auto tree = std::make_shared<typename GridT::TreeType>(volume.geometryGrid().tree(), background, openvdb::TopologyCopy());
+  auto tree =
+      std::make_shared<typename GridT::TreeType>(volume.geometryGrid().tree(), background, openvdb::TopologyCopy());
   auto grid = GridT::create(tree);
   grid->setTransform(volume.geometryGrid().transform().copy());
   grid->setName(name);
@@ -94,8 +95,9 @@ Result<GeometryGrid::TreeType::Ptr> mergeLayers(const MapLayers& layers) {
     }
   });
   if (bad_value)
-    return makeError("an observed voxel holds a value the volume cannot (weight <= 0, non-finite, or label "
-                     "outside 0..65535)");
+    return makeError(
+        "an observed voxel holds a value the volume cannot (weight <= 0, non-finite, or label "
+        "outside 0..65535)");
   return packed;
 }
 

@@ -85,9 +85,11 @@ std::string sealTrailer(uint64_t bytes, uint64_t crc) {
 }
 
 Result<std::string_view> verifySeal(std::string_view file) {
-  if (file.size() < kSealTrailerSize || std::memcmp(file.data() + file.size() - kSealTrailerSize, kMagic, sizeof(kMagic)) != 0)
-    return makeError("not a complete semfuse map: no integrity trailer at its end (the file is truncated, or it is a "
-                     "plain OpenVDB file or a map saved before semfuse sealed its map files)");
+  if (file.size() < kSealTrailerSize ||
+      std::memcmp(file.data() + file.size() - kSealTrailerSize, kMagic, sizeof(kMagic)) != 0)
+    return makeError(
+        "not a complete semfuse map: no integrity trailer at its end (the file is truncated, or it is a "
+        "plain OpenVDB file or a map saved before semfuse sealed its map files)");
   const std::size_t at = file.size() - kSealTrailerSize;
   const uint64_t version = getLittleEndian(file, at + 8, 4);
   if (version != kSealVersion)
@@ -116,7 +118,9 @@ MemoryReadBuffer::MemoryReadBuffer(std::string_view bytes) {
 MemoryReadBuffer::pos_type MemoryReadBuffer::seekoff(off_type offset, std::ios_base::seekdir dir,
                                                      std::ios_base::openmode which) {
   if (!(which & std::ios_base::in)) return pos_type(off_type(-1));
-  const off_type base = dir == std::ios_base::beg ? 0 : dir == std::ios_base::cur ? gptr() - eback() : egptr() - eback();
+  const off_type base = dir == std::ios_base::beg   ? 0
+                        : dir == std::ios_base::cur ? gptr() - eback()
+                                                    : egptr() - eback();
   const off_type target = base + offset;
   if (target < 0 || target > egptr() - eback()) return pos_type(off_type(-1));
   setg(eback(), eback() + target, egptr());

@@ -9,7 +9,6 @@ namespace {
 using GeometryLeaf = GeometryGrid::TreeType::LeafNodeType;
 constexpr int kLeafMask = GeometryLeaf::DIM - 1;
 
-
 openvdb::Coord floorCoord(const Eigen::Vector3f& index) {
   return {static_cast<int>(std::floor(index.x())), static_cast<int>(std::floor(index.y())),
           static_cast<int>(std::floor(index.z()))};

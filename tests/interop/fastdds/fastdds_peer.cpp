@@ -25,6 +25,8 @@
 #include <thread>
 #include <vector>
 
+#include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
+#include <fastrtps/utils/IPLocator.h>
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
@@ -34,8 +36,6 @@
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
-#include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
-#include <fastrtps/utils/IPLocator.h>
 
 #include "msgPubSubTypes.h"
 #include "sensor_msgsPubSubTypes.h"
@@ -72,8 +72,10 @@ bool parse(int argc, char** argv, Options& o) {
       if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
       return argv[++i];
     };
-    if (a == "--help" || a == "-h") { usage(std::cout); std::exit(0); }
-    else if (a == "--domain") o.domain = std::stoi(value());
+    if (a == "--help" || a == "-h") {
+      usage(std::cout);
+      std::exit(0);
+    } else if (a == "--domain") o.domain = std::stoi(value());
     else if (a == "--frames") o.frames_dir = value();
     else if (a == "--rate") o.rate_hz = std::stod(value());
     else if (a == "--world-frame") o.world_frame = value();
@@ -92,7 +94,8 @@ std::vector<uint8_t> readBytes(const std::string& path, size_t expected) {
   std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (!in.good() && !in.eof()) throw std::runtime_error("cannot read " + path);
   if (bytes.size() != expected)
-    throw std::runtime_error(path + ": " + std::to_string(bytes.size()) + " bytes, expected " + std::to_string(expected));
+    throw std::runtime_error(path + ": " + std::to_string(bytes.size()) + " bytes, expected " +
+                             std::to_string(expected));
   return bytes;
 }
 
@@ -132,21 +135,34 @@ void setStamp(std_msgs::msg::dds_::Header_& header, int index, double rate_hz, c
 
 // Row-major rotation -> quaternion (the rotation is orthonormal: it comes from the renderer).
 std::array<double, 4> quaternion(const std::array<double, 12>& m) {
-  const double r00 = m[0], r01 = m[1], r02 = m[2], r10 = m[4], r11 = m[5], r12 = m[6], r20 = m[8], r21 = m[9], r22 = m[10];
+  const double r00 = m[0], r01 = m[1], r02 = m[2], r10 = m[4], r11 = m[5], r12 = m[6], r20 = m[8], r21 = m[9],
+               r22 = m[10];
   const double trace = r00 + r11 + r22;
   double x, y, z, w;
   if (trace > 0) {
     const double s = 0.5 / std::sqrt(trace + 1.0);
-    w = 0.25 / s; x = (r21 - r12) * s; y = (r02 - r20) * s; z = (r10 - r01) * s;
+    w = 0.25 / s;
+    x = (r21 - r12) * s;
+    y = (r02 - r20) * s;
+    z = (r10 - r01) * s;
   } else if (r00 > r11 && r00 > r22) {
     const double s = 2.0 * std::sqrt(1.0 + r00 - r11 - r22);
-    w = (r21 - r12) / s; x = 0.25 * s; y = (r01 + r10) / s; z = (r02 + r20) / s;
+    w = (r21 - r12) / s;
+    x = 0.25 * s;
+    y = (r01 + r10) / s;
+    z = (r02 + r20) / s;
   } else if (r11 > r22) {
     const double s = 2.0 * std::sqrt(1.0 + r11 - r00 - r22);
-    w = (r02 - r20) / s; x = (r01 + r10) / s; y = 0.25 * s; z = (r12 + r21) / s;
+    w = (r02 - r20) / s;
+    x = (r01 + r10) / s;
+    y = 0.25 * s;
+    z = (r12 + r21) / s;
   } else {
     const double s = 2.0 * std::sqrt(1.0 + r22 - r00 - r11);
-    w = (r10 - r01) / s; x = (r02 + r20) / s; y = (r12 + r21) / s; z = 0.25 * s;
+    w = (r10 - r01) / s;
+    x = (r02 + r20) / s;
+    y = (r12 + r21) / s;
+    z = 0.25 * s;
   }
   return {x, y, z, w};
 }
@@ -201,9 +217,9 @@ class Peer {
   }
 
   int run() {
-    const auto deadline = std::chrono::steady_clock::now() +
-                          std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                              std::chrono::duration<double>(o_.timeout_s));
+    const auto deadline =
+        std::chrono::steady_clock::now() +
+        std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(o_.timeout_s));
     std::vector<std::string> frames;
     Camera camera;
     if (!o_.frames_dir.empty()) {

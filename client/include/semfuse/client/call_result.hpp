@@ -20,8 +20,7 @@ template <class T>
 class [[nodiscard]] CallResult {
  public:
   CallResult(T value) : result_(std::move(value)) {}  // NOLINT(google-explicit-constructor)
-  CallResult(Failure failure, std::string message)
-      : result_(Error{std::move(message)}), failure_(failure) {}
+  CallResult(Failure failure, std::string message) : result_(Error{std::move(message)}), failure_(failure) {}
 
   bool ok() const { return result_.ok(); }
   explicit operator bool() const { return ok(); }

@@ -96,8 +96,8 @@ class MapClient {
   MapClient(const MapClient&) = delete;
   MapClient& operator=(const MapClient&) = delete;
 
-  CallResult<RaycastImages> raycast(const Pose& camera_to_world, const PinholeIntrinsics& intrinsics,
-                                    uint32_t layers, Timeout timeout, float max_range = 0.0F);
+  CallResult<RaycastImages> raycast(const Pose& camera_to_world, const PinholeIntrinsics& intrinsics, uint32_t layers,
+                                    Timeout timeout, float max_range = 0.0F);
   CallResult<std::vector<VoxelSample>> labelsAt(const std::vector<Eigen::Vector3d>& points, Timeout timeout);
   CallResult<RegionSummary> region(const Box& box, Timeout timeout);
   // label 0 = objects of every label.

@@ -21,8 +21,8 @@ struct PinholeIntrinsics {
 
   // Same camera at another resolution (pixel centres stay consistent).
   PinholeIntrinsics scaled(double factor) const {
-    return {static_cast<int>(width * factor), static_cast<int>(height * factor), fx * factor,
-            fy * factor, (cx + 0.5) * factor - 0.5, (cy + 0.5) * factor - 0.5};
+    return {static_cast<int>(width * factor), static_cast<int>(height * factor), fx * factor, fy * factor,
+            (cx + 0.5) * factor - 0.5,        (cy + 0.5) * factor - 0.5};
   }
 };
 

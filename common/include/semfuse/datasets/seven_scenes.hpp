@@ -29,8 +29,7 @@ struct SevenScenesOptions {
 class SevenScenesReader {
  public:
   // Scans the folder; fails when it holds no frames or the intrinsics are missing or malformed.
-  static Result<SevenScenesReader> open(const std::filesystem::path& folder,
-                                        SevenScenesOptions options = {});
+  static Result<SevenScenesReader> open(const std::filesystem::path& folder, SevenScenesOptions options = {});
 
   std::size_t count() const { return frame_numbers_.size(); }
   const PinholeIntrinsics& intrinsics() const { return intrinsics_; }

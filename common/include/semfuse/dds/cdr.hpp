@@ -16,8 +16,7 @@ namespace semfuse::dds {
 
 namespace detail {
 std::vector<uint8_t> serialize(const dds_topic_descriptor_t& descriptor, const void* sample);
-Status deserialize(const dds_topic_descriptor_t& descriptor, const uint8_t* bytes,
-                   std::size_t size, void* sample);
+Status deserialize(const dds_topic_descriptor_t& descriptor, const uint8_t* bytes, std::size_t size, void* sample);
 }  // namespace detail
 
 template <class T>

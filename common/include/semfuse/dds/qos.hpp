@@ -35,7 +35,7 @@ namespace qos {
 // timeout. Cyclone's 100 ms default is too short for a 1.2 MB frame on a loaded host.
 inline constexpr dds_duration_t kMaxBlockingTime = DDS_SECS(2);
 
-Qos frames();         // reliable, keep-last 2, volatile: a late frame is worth less than a new one
+Qos frames();  // reliable, keep-last 2, volatile: a late frame is worth less than a new one
 // The server's frames reader: frames() with keep-last 8. The topic has no key, so the depth is
 // shared by every camera: with 2, a burst of other cameras' frames while the ingest thread is
 // busy could overwrite one camera's last frames before they are taken, a loss that no later

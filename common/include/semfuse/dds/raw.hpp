@@ -25,8 +25,7 @@ namespace detail {
 // a sample through a private writer/reader pair on the topic, then keeps a reference to it.
 ddsi_sertype* acquireSertype(dds_entity_t topic, const dds_topic_descriptor_t& descriptor);
 void releaseSertype(ddsi_sertype* sertype);
-Status writeSerialized(dds_entity_t writer, ddsi_sertype* sertype, const uint8_t* bytes,
-                       std::size_t size);
+Status writeSerialized(dds_entity_t writer, ddsi_sertype* sertype, const uint8_t* bytes, std::size_t size);
 Result<std::vector<std::vector<uint8_t>>> takeSerialized(dds_entity_t reader, std::size_t max);
 }  // namespace detail
 
@@ -62,8 +61,7 @@ class RawWriter {
 };
 
 // Takes up to max samples from any reader, as serialized bytes (header included).
-inline Result<std::vector<std::vector<uint8_t>>> takeSerialized(dds_entity_t reader,
-                                                                 std::size_t max = 32) {
+inline Result<std::vector<std::vector<uint8_t>>> takeSerialized(dds_entity_t reader, std::size_t max = 32) {
   return detail::takeSerialized(reader, max);
 }
 

@@ -38,8 +38,7 @@ class Reader {
     std::array<void*, kMaxBatch> buffers{};
     std::array<dds_sample_info_t, kMaxBatch> infos{};
     const auto n = std::min(max, kMaxBatch);
-    const dds_return_t taken = dds_take(entity_.handle(), buffers.data(), infos.data(), n,
-                                        static_cast<uint32_t>(n));
+    const dds_return_t taken = dds_take(entity_.handle(), buffers.data(), infos.data(), n, static_cast<uint32_t>(n));
     if (taken < 0) return makeError(describe("take from " + topic_name_, taken));
     struct LoanGuard {
       dds_entity_t reader;

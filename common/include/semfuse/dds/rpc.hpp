@@ -58,8 +58,7 @@ void setReplyStatus(Reply& reply, int32_t status, std::string_view message) {
 template <class Request, class Reply>
 class RpcClient {
  public:
-  RpcClient(const Participant& participant, const topics::ServiceTopics& service,
-            const Qos& qos = qos::service())
+  RpcClient(const Participant& participant, const topics::ServiceTopics& service, const Qos& qos = qos::service())
       : request_topic_(participant, service.request),
         reply_topic_(participant, service.reply),
         writer_(request_topic_, qos),
@@ -84,8 +83,7 @@ class RpcClient {
     // A request written before the server's reader is matched is lost (volatile), and a reply
     // before our reader is matched too: wait until both directions see the server.
     if (!writer_.waitForReaders(1, remaining()) || !reader_.waitForWriters(1, remaining())) {
-      return makeError("no server for " + writer_.topicName() + " after " +
-                       std::to_string(timeout.count()) + " ms");
+      return makeError("no server for " + writer_.topicName() + " after " + std::to_string(timeout.count()) + " ms");
     }
     const int64_t sequence = next_sequence_++;
     request.client_guid_ = guid_;
@@ -109,9 +107,8 @@ class RpcClient {
       const dds_duration_t until_resend = std::max<dds_duration_t>(0, resend_at - dds_time());
       if (auto woke = waitset_.wait(std::min(left, until_resend)); !woke) return makeError(woke.error());
     }
-    return makeError("no reply on " + reader_.topicName() + " within " +
-                     std::to_string(timeout.count()) + " ms (request " + std::to_string(sequence) +
-                     ")");
+    return makeError("no reply on " + reader_.topicName() + " within " + std::to_string(timeout.count()) +
+                     " ms (request " + std::to_string(sequence) + ")");
   }
 
  private:
@@ -224,12 +221,10 @@ class RpcServer {
       handler_(request, *reply);
     } catch (const std::exception& e) {
       reply.clear();
-      setReplyStatus(*reply, semfuse_srv_dds__Status_Constants_INTERNAL,
-                     std::string("request failed: ") + e.what());
+      setReplyStatus(*reply, semfuse_srv_dds__Status_Constants_INTERNAL, std::string("request failed: ") + e.what());
     } catch (...) {
       reply.clear();
-      setReplyStatus(*reply, semfuse_srv_dds__Status_Constants_INTERNAL,
-                     "request failed: unknown exception");
+      setReplyStatus(*reply, semfuse_srv_dds__Status_Constants_INTERNAL, "request failed: unknown exception");
     }
     reply->client_guid_ = request.client_guid_;
     reply->sequence_number_ = request.sequence_number_;

@@ -18,9 +18,8 @@ class Topic {
   Topic(const Participant& participant, std::string name, const Qos& qos = Qos())
       : participant_(participant.handle()), name_(std::move(name)) {
     const std::string what = "create topic " + name_;
-    entity_ = Entity(check(dds_create_topic(participant_, &descriptorOf<T>(), name_.c_str(),
-                                            qos.get(), nullptr),
-                           what.c_str()));
+    entity_ = Entity(
+        check(dds_create_topic(participant_, &descriptorOf<T>(), name_.c_str(), qos.get(), nullptr), what.c_str()));
   }
 
   dds_entity_t handle() const { return entity_.handle(); }

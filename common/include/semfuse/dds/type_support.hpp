@@ -17,10 +17,10 @@ namespace semfuse::dds {
 template <class T>
 struct TypeSupport;  // no definition: only wire types are allowed
 
-#define SEMFUSE_DDS_TYPE_SUPPORT(ctype)                                           \
-  template <>                                                                     \
-  struct TypeSupport<ctype> {                                                     \
-    static const dds_topic_descriptor_t& descriptor() { return ctype##_desc; }   \
+#define SEMFUSE_DDS_TYPE_SUPPORT(ctype)                                        \
+  template <>                                                                  \
+  struct TypeSupport<ctype> {                                                  \
+    static const dds_topic_descriptor_t& descriptor() { return ctype##_desc; } \
   };
 
 // ROS 2 standard types

@@ -25,9 +25,7 @@ class Writer {
   const std::string& topicName() const { return topic_name_; }
 
   // Fails with a timeout when reliable readers do not acknowledge within max_blocking_time.
-  Status write(const T& sample) const {
-    return toStatus(dds_write(entity_.handle(), &sample), "write");
-  }
+  Status write(const T& sample) const { return toStatus(dds_write(entity_.handle(), &sample), "write"); }
 
   int32_t matchedReaders() const { return dds::matchedReaders(entity_.handle()); }
   bool waitForReaders(int32_t count, dds_duration_t timeout) const {

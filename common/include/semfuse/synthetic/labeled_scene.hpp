@@ -28,10 +28,10 @@ struct SceneObject {
 };
 
 struct SurfaceHit {
-  double t = 0.0;                // ray parameter (camera depth for a camera ray, see Ray)
-  Eigen::Vector3d point;         // world
-  Eigen::Vector3d normal;        // world, unit, outward from the solid
-  std::size_t object = 0;        // index into LabeledScene::objects()
+  double t = 0.0;          // ray parameter (camera depth for a camera ray, see Ray)
+  Eigen::Vector3d point;   // world
+  Eigen::Vector3d normal;  // world, unit, outward from the solid
+  std::size_t object = 0;  // index into LabeledScene::objects()
 };
 
 struct NearestSurface {

@@ -22,11 +22,11 @@ inline constexpr LabelId kMax = kCabinet;
 }  // namespace labels
 
 struct RoomOptions {
-  double size_x = 5.0;   // inner extent along x, metres (walls at x = +-size_x / 2)
-  double size_y = 4.0;   // inner extent along y (walls at y = +-size_y / 2)
-  double height = 2.6;   // ceiling height / wall height
-  bool ceiling = true;   // without it, rays leaving over the walls see nothing (depth 0)
-  uint64_t seed = 0;     // texture variation only; the layout is fixed so tests can rely on it
+  double size_x = 5.0;  // inner extent along x, metres (walls at x = +-size_x / 2)
+  double size_y = 4.0;  // inner extent along y (walls at y = +-size_y / 2)
+  double height = 2.6;  // ceiling height / wall height
+  bool ceiling = true;  // without it, rays leaving over the walls see nothing (depth 0)
+  uint64_t seed = 0;    // texture variation only; the layout is fixed so tests can rely on it
 };
 
 // Furniture is placed for the default size; the room must be at least 4.6 x 3.6 x 2.0 m so that

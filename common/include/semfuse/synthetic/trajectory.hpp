@@ -20,13 +20,13 @@ struct OrbitTrajectory {
   double revolutions = 1.0;
   Eigen::Vector2d center{0.0, 0.0};  // orbit centre in the floor plane
   double radius = 1.6;
-  double height = 1.4;               // mean eye height
+  double height = 1.4;  // mean eye height
   double height_amplitude = 0.2;
   Eigen::Vector3d target{0.0, 0.0, 0.6};
-  double target_amplitude = 0.35;    // how far the gaze point wanders around target
-  double phase_rad = 0.0;            // start angle on the orbit
+  double target_amplitude = 0.35;  // how far the gaze point wanders around target
+  double phase_rad = 0.0;          // start angle on the orbit
 
-  Pose pose(double frame) const;     // fractional frames give in-between poses
+  Pose pose(double frame) const;  // fractional frames give in-between poses
 };
 
 }  // namespace semfuse::synthetic

@@ -6,9 +6,9 @@
 #include <vector>
 
 #include <geometry_msgs.h>
-#include <opencv2/core/mat.hpp>
 #include <sensor_msgs.h>
 #include <std_msgs.h>
+#include <opencv2/core/mat.hpp>
 
 #include "semfuse/core/result.hpp"
 #include "semfuse/core/types.hpp"

@@ -42,8 +42,8 @@ Status validatePose(const Pose& pose, double tolerance = kRotationTolerance);
 
 // A compressed payload after cv::imdecode: empty = failed to decode; else size and type must match.
 // `format` is "PNG" or "JPEG" for the message; expected_type e.g. CV_16UC1.
-Status validateDecodedImage(const std::string& what, const std::string& format, const cv::Mat& decoded,
-                            uint32_t width, uint32_t height, int expected_type);
+Status validateDecodedImage(const std::string& what, const std::string& format, const cv::Mat& decoded, uint32_t width,
+                            uint32_t height, int expected_type);
 
 // The size a PNG declares in its header (checked before decoding, so that a small payload cannot
 // make the decoder allocate a huge image). Error when the bytes are not a PNG.

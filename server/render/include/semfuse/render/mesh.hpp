@@ -16,11 +16,11 @@
 namespace semfuse::render {
 
 struct LabeledMesh {
-  std::vector<Eigen::Vector3f> vertices;      // world, metres
-  std::vector<Eigen::Vector3f> normals;       // unit, towards free space; one per vertex
-  std::vector<LabelId> labels;                // one per vertex, 0 = unlabeled
-  std::vector<float> scores;                  // one per vertex
-  std::vector<volume::Rgb8> colors;           // one per vertex; empty when the volume has no colour
+  std::vector<Eigen::Vector3f> vertices;           // world, metres
+  std::vector<Eigen::Vector3f> normals;            // unit, towards free space; one per vertex
+  std::vector<LabelId> labels;                     // one per vertex, 0 = unlabeled
+  std::vector<float> scores;                       // one per vertex
+  std::vector<volume::Rgb8> colors;                // one per vertex; empty when the volume has no colour
   std::vector<std::array<uint32_t, 3>> triangles;  // counter-clockwise seen from free space
 };
 

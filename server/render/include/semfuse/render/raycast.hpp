@@ -17,11 +17,11 @@ namespace semfuse::render {
 
 // Which images to produce; combine with |.
 enum RenderLayer : uint32_t {
-  kDepthLayer = 1u << 0,    // CV_32FC1, metres along the camera z axis, 0 = no surface
-  kNormalLayer = 1u << 1,   // CV_32FC3, unit normal from the TSDF gradient, WORLD frame, 0 = none
-  kLabelLayer = 1u << 2,    // CV_16UC1, label of the voxel nearest the surface point, 0 = none
-  kScoreLayer = 1u << 3,    // CV_32FC1, that voxel's label score (Algorithm 1 evidence)
-  kColorLayer = 1u << 4,    // CV_8UC3 RGB, that voxel's colour (needs a volume with colour)
+  kDepthLayer = 1u << 0,   // CV_32FC1, metres along the camera z axis, 0 = no surface
+  kNormalLayer = 1u << 1,  // CV_32FC3, unit normal from the TSDF gradient, WORLD frame, 0 = none
+  kLabelLayer = 1u << 2,   // CV_16UC1, label of the voxel nearest the surface point, 0 = none
+  kScoreLayer = 1u << 3,   // CV_32FC1, that voxel's label score (Algorithm 1 evidence)
+  kColorLayer = 1u << 4,   // CV_8UC3 RGB, that voxel's colour (needs a volume with colour)
   kAllLayers = (1u << 5) - 1,
 };
 using RenderLayers = uint32_t;
@@ -78,8 +78,8 @@ Result<RaycastImages> raycast(PreparedRaycast&& prepared);
 // Process-wide; takes effect from the next raycast.
 enum class RaycastKernel { kScalar, kAvx2 };
 RaycastKernel raycastKernel();
-bool raycastKernelAvailable(RaycastKernel kernel);  // kAvx2: built for x86-64 and the CPU has it
-bool setRaycastKernel(RaycastKernel kernel);        // false, and no change, where unavailable
+bool raycastKernelAvailable(RaycastKernel kernel);    // kAvx2: built for x86-64 and the CPU has it
+bool setRaycastKernel(RaycastKernel kernel);          // false, and no change, where unavailable
 const char* raycastKernelName(RaycastKernel kernel);  // "scalar", "avx2"
 
 }  // namespace semfuse::render

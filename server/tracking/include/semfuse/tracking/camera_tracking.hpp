@@ -58,8 +58,7 @@ struct TrackedFrame {
 // Decides the pose of `frame` and updates `state`. Errors for malformed frames (empty or wrongly
 // typed depth, size not matching the intrinsics, non-finite or non-rigid given pose) leave the
 // state untouched.
-Result<TrackedFrame> trackFrame(SdfTracker& tracker, const Frame& frame, const SdfField& field,
-                                CameraTrackState& state,
+Result<TrackedFrame> trackFrame(SdfTracker& tracker, const Frame& frame, const SdfField& field, CameraTrackState& state,
                                 GivenPosePolicy policy = GivenPosePolicy::kUseAsIs);
 
 }  // namespace semfuse::tracking

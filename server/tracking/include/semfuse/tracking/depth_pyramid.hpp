@@ -16,8 +16,8 @@ namespace semfuse::tracking {
 inline constexpr int kMaxPyramidLevels = 4;
 
 struct PyramidParams {
-  int levels = 3;  // 1..kMaxPyramidLevels; level 0 is the input resolution, each next halves it
-  float min_depth_m = 0.1f;   // closer or farther readings are treated as invalid
+  int levels = 3;            // 1..kMaxPyramidLevels; level 0 is the input resolution, each next halves it
+  float min_depth_m = 0.1f;  // closer or farther readings are treated as invalid
   float max_depth_m = 6.0f;
   // Depth-aware downsampling: of a 2x2 block, only readings within this distance of the block's
   // nearest reading are averaged (relative to that depth, plus an absolute floor), so that a

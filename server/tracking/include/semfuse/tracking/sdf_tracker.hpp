@@ -22,25 +22,25 @@ namespace semfuse::tracking {
 // Why an alignment was not trusted.
 enum class LostReason {
   kNone,
-  kNoValidDepth,     // the image has no usable reading (all 0 / NaN / out of range)
-  kTooFewInliers,    // little of the image agrees with the map (new territory, or wrong pose)
-  kHighResidual,     // points agree poorly on average
-  kDegenerate,       // the geometry does not constrain all six degrees of freedom
-  kDiverged,         // the solution moved implausibly far from the starting guess
+  kNoValidDepth,   // the image has no usable reading (all 0 / NaN / out of range)
+  kTooFewInliers,  // little of the image agrees with the map (new territory, or wrong pose)
+  kHighResidual,   // points agree poorly on average
+  kDegenerate,     // the geometry does not constrain all six degrees of freedom
+  kDiverged,       // the solution moved implausibly far from the starting guess
 };
 const char* toString(LostReason reason);
 
 struct TrackingQuality {
-  std::size_t points = 0;    // finest-level points evaluated at the final pose
+  std::size_t points = 0;  // finest-level points evaluated at the final pose
   std::size_t inliers = 0;
   double inlier_ratio = 0.0;
-  std::size_t observed = 0;       // points that landed where the map was observed, at any |D|
-  double observed_agreement = 0.0;  // inliers / observed
-  double rms_residual_m = 0.0;  // RMS of D over the inliers
+  std::size_t observed = 0;             // points that landed where the map was observed, at any |D|
+  double observed_agreement = 0.0;      // inliers / observed
+  double rms_residual_m = 0.0;          // RMS of D over the inliers
   double hessian_min_eigenvalue = 0.0;  // of the depth-scaled Hessian, per point
   double hessian_max_eigenvalue = 0.0;
-  double hessian_rcond = 0.0;           // min / max eigenvalue
-  int iterations = 0;                   // Gauss-Newton iterations over all levels
+  double hessian_rcond = 0.0;  // min / max eigenvalue
+  int iterations = 0;          // Gauss-Newton iterations over all levels
 };
 
 struct Alignment {
@@ -63,13 +63,12 @@ class SdfTracker {
   // Aligns depth (CV_32FC1 metres, 0/NaN invalid) to the field starting from guess. An error for
   // malformed input; otherwise an Alignment, with lost_reason set when its quality is too low (its
   // pose is then the best estimate but should not be integrated).
-  Result<Alignment> align(const cv::Mat& depth, const PinholeIntrinsics& intrinsics,
-                          const SdfField& field, const Pose& guess);
+  Result<Alignment> align(const cv::Mat& depth, const PinholeIntrinsics& intrinsics, const SdfField& field,
+                          const Pose& guess);
 
  private:
   TrackingQuality assess(const NormalEquations& system) const;
-  LostReason judge(const TrackingQuality& quality, float truncation, const Pose& guess,
-                   const Pose& result) const;
+  LostReason judge(const TrackingQuality& quality, float truncation, const Pose& guess, const Pose& result) const;
 
   TrackerParams params_;
   DepthPyramid pyramid_;

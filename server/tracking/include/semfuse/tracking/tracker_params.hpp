@@ -33,8 +33,8 @@ struct TrackerParams {
   double damping = 1e-4;
 
   // A frame is LOST, and must not be integrated, below any of these.
-  double min_inlier_ratio = 0.3;    // inliers / valid points of the finest level
-  double max_rms_fraction = 0.35;   // RMS of D over inliers, x truncation
+  double min_inlier_ratio = 0.3;   // inliers / valid points of the finest level
+  double max_rms_fraction = 0.35;  // RMS of D over inliers, x truncation
   std::size_t min_inliers = 200;
   // Reciprocal condition (min / max eigenvalue) of the 6x6 Hessian with rotations scaled by the
   // mean scene depth (so both blocks are in metres): a plane or a corridor leaves directions

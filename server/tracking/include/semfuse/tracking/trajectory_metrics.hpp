@@ -32,8 +32,7 @@ Result<AbsoluteTrajectoryError> absoluteTrajectoryError(const std::vector<Pose>&
                                                         const std::vector<Pose>& reference, bool align);
 
 // Error of each estimated frame-to-frame motion against the reference motion.
-Result<RelativePoseError> relativePoseError(const std::vector<Pose>& estimate,
-                                            const std::vector<Pose>& reference);
+Result<RelativePoseError> relativePoseError(const std::vector<Pose>& estimate, const std::vector<Pose>& reference);
 
 // Length of the path travelled by the camera centre.
 double pathLength(const std::vector<Pose>& trajectory);

@@ -23,11 +23,11 @@
 namespace semfuse::volume {
 
 struct IntegrationStats {
-  std::size_t valid_pixels = 0;       // depth pixels within range
-  std::size_t leaves_touched = 0;     // leaves in the truncation band of this frame
-  std::size_t leaves_allocated = 0;   // of which new
-  std::size_t voxels_updated = 0;     // voxels whose TSDF was updated
-  std::size_t voxels_labeled = 0;     // voxels where Algorithm 1 ran (label not 0/background)
+  std::size_t valid_pixels = 0;      // depth pixels within range
+  std::size_t leaves_touched = 0;    // leaves in the truncation band of this frame
+  std::size_t leaves_allocated = 0;  // of which new
+  std::size_t voxels_updated = 0;    // voxels whose TSDF was updated
+  std::size_t voxels_labeled = 0;    // voxels where Algorithm 1 ran (label not 0/background)
 };
 
 Result<IntegrationStats> integrate(LabeledVolume& volume, const cv::Mat& depth, const cv::Mat& color,
@@ -56,8 +56,8 @@ Result<IntegrationStats> integrateLabels(LabeledVolume& volume, const cv::Mat& d
 // that test and for benchmarking. Process-wide; takes effect from the next integrate() call.
 enum class IntegrationKernel { kScalar, kAvx2 };
 IntegrationKernel integrationKernel();
-bool integrationKernelAvailable(IntegrationKernel kernel);  // kAvx2: built for x86-64 and the CPU has it
-bool setIntegrationKernel(IntegrationKernel kernel);        // false, and no change, where unavailable
+bool integrationKernelAvailable(IntegrationKernel kernel);    // kAvx2: built for x86-64 and the CPU has it
+bool setIntegrationKernel(IntegrationKernel kernel);          // false, and no change, where unavailable
 const char* integrationKernelName(IntegrationKernel kernel);  // "scalar", "avx2"
 
 }  // namespace semfuse::volume

@@ -62,9 +62,9 @@ using PackedLabelSidecar = openvdb::Int64;
 // What a label update needs, precomputed once per frame.
 struct LabelRuleConfig {
   LabelRule rule = LabelRule::kEvidence;
-  float max_score = 16.0f;   // W_clamp
-  float label_classes = 20;  // L of the bayes likelihood
-  float likelihood = 0.9f;   // p_max: probability that a full-confidence pixel label is right
+  float max_score = 16.0f;                 // W_clamp
+  float label_classes = 20;                // L of the bayes likelihood
+  float likelihood = 0.9f;                 // p_max: probability that a full-confidence pixel label is right
   float full_confidence_log_ratio = 1.0f;  // bayes evidence of one observation at w = 1 (the unit)
 };
 

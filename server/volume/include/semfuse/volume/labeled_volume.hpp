@@ -10,8 +10,8 @@
 #include <cstddef>
 #include <cstdint>
 
-#include <Eigen/Core>
 #include <openvdb/openvdb.h>
+#include <Eigen/Core>
 
 #include "semfuse/core/result.hpp"
 #include "semfuse/volume/volume_params.hpp"

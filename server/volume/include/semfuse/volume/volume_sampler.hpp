@@ -6,8 +6,8 @@
 // modified while it is in use.
 #include <optional>
 
-#include <Eigen/Core>
 #include <openvdb/openvdb.h>
+#include <Eigen/Core>
 
 #include "semfuse/volume/labeled_volume.hpp"
 
@@ -20,7 +20,9 @@ class VolumeSampler {
   // Trilinearly interpolated TSDF in metres at a world point. False (tsdf untouched) where any of
   // the 8 surrounding voxels is unobserved: interpolating against "unknown" would invent surfaces.
   bool tsdf(const Eigen::Vector3f& world, float& tsdf);
-  bool tsdf(const Eigen::Vector3d& world, float& tsdf) { return this->tsdf(Eigen::Vector3f(world.cast<float>()), tsdf); }
+  bool tsdf(const Eigen::Vector3d& world, float& tsdf) {
+    return this->tsdf(Eigen::Vector3f(world.cast<float>()), tsdf);
+  }
 
   // Same, plus the gradient of the trilinear interpolant (metres per metre; points away from the
   // surface, towards free space; not normalised). Same validity rule.

@@ -65,9 +65,9 @@ inline uint16_t halfBits(float value) {
   const uint32_t sign = (bits >> 16) & 0x8000u;
   const uint32_t magnitude = bits & 0x7FFFFFFFu;
   uint32_t half;
-  if (magnitude >= 0x47800000u) {  // >= 65536 (2^16), inf or NaN: all exponent bits set
+  if (magnitude >= 0x47800000u) {                        // >= 65536 (2^16), inf or NaN: all exponent bits set
     half = magnitude > 0x7F800000u ? 0x7E00u : 0x7C00u;  // NaN -> quiet NaN, else inf
-  } else if (magnitude < 0x38800000u) {  // < 2^-14: the half is subnormal (or zero)
+  } else if (magnitude < 0x38800000u) {                  // < 2^-14: the half is subnormal (or zero)
     // Adding 0.5 aligns the float's mantissa so that its low bits are the half's subnormal
     // mantissa (units of 2^-24); the FPU's own rounding of that sum is round-to-nearest-even.
     half = floatBits(bitsFloat(magnitude) + 0.5f) - 0x3F000000u;
