@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Regenerates the label fusion experiments (issue 9): docs/eval/*.csv, the plot tables, the PNG
+# Regenerates the label fusion experiments: docs/eval/*.csv, the plot tables, the PNG
 # plots (gnuplot) and docs/eval/README.md, with semfuse-eval in process.
 #
 #   deploy/eval.sh                   everything: synthetic room and 7-Scenes redkitchen (../shared)

@@ -5,7 +5,7 @@
 #                                    access-controlled, payload and discovery encrypted
 #   OUT/<role>/cert.pem, key.pem     one identity per role (EC P-256), signed by the CA
 #   OUT/<role>/permissions.xml, .p7s what the role may publish and subscribe, signed by the CA
-# Roles: server, camera, segmenter, query (DESIGN.md section 2 topics):
+# Roles: server, camera, segmenter, query (topics of docs/architecture.md):
 #   camera    publishes rt/semfuse/frames only (reads status to find the server)
 #   segmenter reads frames, publishes rt/semfuse/segmentations
 #   query     calls services only (rq/semfuse/*Request out, rr/semfuse/*Reply in), reads

@@ -1,4 +1,4 @@
-// semfuse-server: owns the labeled TSDF map and serves it over DDS (DESIGN.md section 1).
+// semfuse-server: owns the labeled TSDF map and serves it over DDS (docs/architecture.md).
 #include <csignal>
 #include <cstdio>
 #include <thread>

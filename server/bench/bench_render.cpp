@@ -1,5 +1,5 @@
-// semfuse-bench render: raycast and mesh speed on the 7-Scenes map (issue 3's targets: raycast
-// 640x480 depth+normal+label <= 33 ms, mesh <= 100 ms). The map is built once, untimed, from the
+// semfuse-bench render: raycast and mesh speed on the 7-Scenes map (targets: raycast 640x480
+// depth+normal+label <= 33 ms, mesh <= 100 ms). The map is built once, untimed, from the
 // frames with their reference poses; the raycast baseline in the same run marches voxel by voxel
 // through unallocated space instead of skipping it with the tree.
 #include <algorithm>
@@ -189,7 +189,7 @@ int runRenderBench(const RenderBenchOptions& options) {
   }
 
   Table table("render (median / p95 over " + std::to_string(poses.size()) + " poses x " +
-              std::to_string(options.repeats) + " runs; targets from issue 3)");
+              std::to_string(options.repeats) + " runs; targets beside them)");
   auto cpu = [](const TimedRuns& t) { return "CPU " + formatNumber(t.cpu.median()) + " ms (all threads); "; };
   table.addMs("raycast 640x480 depth+normal+label", raycast_fast.wall,
               cpu(raycast_fast) + "target <= 33 ms; Open3D VoxelBlockGrid 83 ms (x" +

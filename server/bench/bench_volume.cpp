@@ -1,5 +1,5 @@
 // semfuse-bench volume: integration speed and memory of the labeled volume on 7-Scenes frames
-// (issue 3's benchmark). Frames are decoded outside the timed region; each timed figure is one
+// (server/volume/README.md). Frames are decoded outside the timed region; each timed figure is one
 // integrate()/integrateLabels() call.
 #include <cmath>
 #include <cstdio>
@@ -262,7 +262,7 @@ int runVolumeBench(const VolumeBenchOptions& options) {
     auto prefix = runPass(reader.value(), params, baseline_frames, Pass::kDepthColorLabels);
     if (prefix) parallel_prefix = prefix.value().integrate;
   }
-  Table table("labeled volume (median / p95 per frame; targets from issue 3)");
+  Table table("labeled volume (median / p95 per frame; targets beside them)");
   auto cpu = [](const Timings& t) { return "CPU " + formatNumber(t.median()) + " ms (all threads)"; };
   table.addMs("integrate depth+colour", unlabeled.value().integrate, cpu(unlabeled.value().integrate_cpu));
   table.addMs("integrate depth+colour+labels", with_labels,

@@ -1,4 +1,4 @@
-// semfuse-eval: runs the label fusion experiments of issue 9 in process (same volume, label rules
+// semfuse-eval: runs the label fusion experiments (docs/eval) in process (same volume, label rules
 // and raycast as the server) and writes CSVs, plot tables, a gnuplot script and a markdown summary.
 // deploy/eval.sh runs it with the committed settings and draws the plots.
 #include <cstdlib>
@@ -242,7 +242,7 @@ int run(const Options& o) {
 
 int main(int argc, char** argv) {
   CLI::App app{
-      "Label fusion experiments (issue 9): error vs pixel/region noise per rule, per-frame vs volumetric, "
+      "Label fusion experiments: error vs pixel/region noise per rule, per-frame vs volumetric, "
       "rule costs, W_clamp and weight sensitivity; writes CSVs, plot tables, plots.gp and README.md.",
       "semfuse-eval"};
   Options o;

@@ -1,5 +1,5 @@
 // The RAII wrappers in one process: errors carry Cyclone's text, loaned and copying takes see
-// what was written, raw bytes go out unchanged, and the QoS profiles say what DESIGN.md says.
+// what was written, raw bytes go out unchanged, and the QoS profiles say what docs/architecture.md says.
 #include <gtest/gtest.h>
 
 #include <string>

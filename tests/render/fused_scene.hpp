@@ -15,7 +15,7 @@ namespace semfuse::render::testing {
 
 inline const PinholeIntrinsics kSmallCamera{320, 240, 262.5, 262.5, 159.5, 119.5};
 
-// The volume the fused test scenes use: 1 cm voxels, 4 cm truncation (the defaults of issue 3).
+// The volume the fused test scenes use: 1 cm voxels, 4 cm truncation (VolumeParams' defaults).
 inline constexpr double kVoxel = 0.01;
 inline volume::VolumeParams fusedVolumeParams() {
   volume::VolumeParams p;

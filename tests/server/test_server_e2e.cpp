@@ -190,7 +190,7 @@ TEST_F(ServerEndToEnd, RejectsBadInputCountsItAndKeepsServing) {
   const Frame& good = both.value().first;
   publishFrame(h, good);
   ASSERT_TRUE(h.waitPose("cam0", 0, 20s));
-  // The frames reader keeps the last 2 samples (DESIGN.md QoS): write the next bad frame only once
+  // The server's frames reader keeps only its last few samples (keep-last): write the next bad frame only once
   // the server has taken the previous one, so that each is rejected rather than overwritten.
   auto received = [&](uint64_t n) {
     return h.waitStatus([n](const auto& s) { return s.frames_received >= n; }, 20s)->frames_received >= n;

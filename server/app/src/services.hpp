@@ -1,5 +1,5 @@
 #pragma once
-// The query services of DESIGN.md section 2 (raycast, labels_at, region, objects, mesh, admin),
+// The query services of the wire contract (raycast, labels_at, region, objects, mesh, admin),
 // each on its own RpcServer thread. They read the map under the Mapper's shared lock; admin
 // load/reset run on the fusion thread, the only writer. Every request gets a reply: a request
 // the server cannot serve gets an error status and a message saying why.

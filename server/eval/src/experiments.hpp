@@ -1,5 +1,5 @@
 #pragma once
-// The five experiments of issue 9, on scenarios prepared by the caller, each writing a CSV (and a
+// The label fusion experiments of docs/eval, on scenarios prepared by the caller, each writing a CSV (and a
 // plot table) into the output folder; results are also kept for the markdown summary.
 //  1 pixel noise (the paper's model)      -> exp1_pixel_noise.csv / .dat
 //  2 region noise (structured)            -> exp2_region_noise.csv / .dat

@@ -1,5 +1,5 @@
 #pragma once
-// What limits a rule's volumetric error (issue 9): for every surface voxel, how many observations
+// What limits a rule's volumetric error (docs/eval experiment 6): for every surface voxel, how many observations
 // it got, whether it sits on a label border, and what an exact count of every label it was shown
 // (an oracle no bounded-memory rule can beat on independent noise) would have decided. Errors of
 // the rule that the oracle avoids are the rule's own (list truncation, clamp, fixed point); errors

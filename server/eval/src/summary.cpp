@@ -1,5 +1,5 @@
-// Experiments::writeSummary: docs/eval/README.md, our numbers beside the paper's and the issue's
-// targets, each target marked met or not with the numbers.
+// Experiments::writeSummary: docs/eval/README.md, our numbers beside the paper's and the label
+// error targets, each target marked met or not with the numbers.
 #include <cstdio>
 #include <fstream>
 

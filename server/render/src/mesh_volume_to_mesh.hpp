@@ -1,7 +1,7 @@
 #pragma once
-// The default mesher: openvdb::tools::VolumeToMesh on a FloatGrid copy of the TSDF, masked by the
-// observed voxels eroded once. Tests and the benchmark compare it with the opt-in surface nets of
-// mesh_surface_nets.hpp.
+// The reference mesher (MeshMethod::kOpenVdbVolumeToMesh): openvdb::tools::VolumeToMesh on a
+// FloatGrid copy of the TSDF, masked by the observed voxels eroded once. Tests and the benchmark
+// compare the default surface nets of mesh_surface_nets.hpp with it.
 #include <optional>
 
 #include <openvdb/openvdb.h>

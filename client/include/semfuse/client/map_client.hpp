@@ -39,7 +39,7 @@ inline constexpr uint32_t kAllLayers = 31;
 
 // A rendered view of the map. Layers that were not requested are empty.
 struct RaycastImages {
-  cv::Mat depth;       // CV_32FC1 metres, NaN = no surface
+  cv::Mat depth;       // CV_32FC1 metres, 0 = no surface
   cv::Mat normals;     // CV_32FC3 world-frame unit normals
   cv::Mat labels;      // CV_16UC1, 0 = unlabeled
   cv::Mat confidence;  // CV_32FC1

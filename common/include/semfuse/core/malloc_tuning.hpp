@@ -4,7 +4,7 @@
 // of the leaves in view, the TSDF bricks, the per-pixel bounds, the images, the reply). glibc
 // serves blocks that large with mmap, or trims them off the heap as soon as they are freed, so
 // the next query takes all those pages again from the kernel: on the 7-Scenes map about 12,000
-// page faults per raycast, ~10 ms of a 45 ms raycast (server/app/README.md).
+// page faults per raycast, ~10 ms of a 45 ms raycast.
 // keepScratchResident() makes glibc keep freed memory for reuse instead (up to a bound), so a
 // steady stream of queries faults nothing.
 #include <cstddef>

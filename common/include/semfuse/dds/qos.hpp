@@ -1,5 +1,5 @@
 #pragma once
-// Named QoS profiles of DESIGN.md section 2. Readers and writers of one topic use the same
+// Named QoS profiles of the wire contract (idl/README.md). Readers and writers of one topic use the same
 // profile so that their reliability, durability and history always match.
 #include <dds/dds.h>
 

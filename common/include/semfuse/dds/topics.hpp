@@ -1,5 +1,5 @@
 #pragma once
-// Topic names of the wire contract (DESIGN.md section 2), in ROS 2's DDS naming: message
+// Topic names of the wire contract (idl/README.md), in ROS 2's DDS naming: message
 // topics are "rt/<ros name>", a service /x/y is the pair "rq/x/yRequest" and "rr/x/yReply".
 #include <string>
 #include <string_view>
