@@ -11,10 +11,10 @@
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
-#include "cli_parse.hpp"
-#include "exit_codes.hpp"
 #include "experiments.hpp"
-#include "progress.hpp"
+#include "semfuse/cli/command_line.hpp"
+#include "semfuse/cli/exit_codes.hpp"
+#include "semfuse/cli/progress.hpp"
 #include "semfuse/core/logging.hpp"
 
 namespace {
@@ -55,7 +55,7 @@ class StageProgress {
   void operator()(const std::string& stage, std::size_t done, std::size_t total) {
     if (stage != stage_) {
       if (bar_) bar_->finish();
-      bar_ = std::make_unique<tools::Progress>(stage, total);
+      bar_ = std::make_unique<cli::Progress>(stage, total);
       stage_ = stage;
     }
     bar_->update(done);
@@ -68,7 +68,7 @@ class StageProgress {
 
  private:
   std::string stage_;
-  std::unique_ptr<tools::Progress> bar_;
+  std::unique_ptr<cli::Progress> bar_;
 };
 
 // The gnuplot script for the committed plots (deploy/eval.sh runs it in the output folder).
@@ -110,7 +110,7 @@ int run(const Options& o) {
     auto rule = volume::parseLabelRule(name);
     if (!rule) {
       spdlog::error("--rules: {}", rule.error());
-      return tools::kExitUsage;
+      return cli::kExitUsage;
     }
     rules.push_back(rule.value());
   }
@@ -118,7 +118,7 @@ int run(const Options& o) {
   fs::create_directories(o.out, error);
   if (error) {
     spdlog::error("cannot create {}: {}", o.out, error.message());
-    return tools::kExitFailure;
+    return cli::kExitFailure;
   }
   StageProgress progress;
   auto progress_fn = [&progress](const std::string& s, std::size_t d, std::size_t t) { progress(s, d, t); };
@@ -130,7 +130,7 @@ int run(const Options& o) {
   params.integrate_color = false;
   if (Status valid = params.validate(); !valid) {
     spdlog::error("{}", valid.error());
-    return tools::kExitUsage;
+    return cli::kExitUsage;
   }
 
   // Sequences and their geometry (integrated once each).
@@ -152,13 +152,13 @@ int run(const Options& o) {
     auto sequence = eval::loadSynthetic(so, o.cache);
     if (!sequence) {
       spdlog::error("{}", sequence.error());
-      return tools::kExitFailure;
+      return cli::kExitFailure;
     }
     sequences.push_back(std::make_unique<eval::EvalSequence>(std::move(sequence).value()));
     auto geometry = eval::integrateGeometry(*sequences.back(), synthetic.params);
     if (!geometry) {
       spdlog::error("{}", geometry.error());
-      return tools::kExitFailure;
+      return cli::kExitFailure;
     }
     scenarios.push_back(std::make_unique<eval::Scenario>(*sequences.back(), std::move(geometry).value()));
     spdlog::info("{}: {} surface voxels, labels present: {}", so.name, scenarios.back()->surface().size(),
@@ -180,13 +180,13 @@ int run(const Options& o) {
     auto sequence = eval::loadSevenScenes(so, o.cache, progress_fn);
     if (!sequence) {
       spdlog::error("7scenes: {}", sequence.error());
-      return tools::kExitFailure;
+      return cli::kExitFailure;
     }
     sequences.push_back(std::make_unique<eval::EvalSequence>(std::move(sequence).value()));
     auto geometry = eval::integrateGeometry(*sequences.back(), so.params);
     if (!geometry) {
       spdlog::error("{}", geometry.error());
-      return tools::kExitFailure;
+      return cli::kExitFailure;
     }
     scenarios.push_back(std::make_unique<eval::Scenario>(*sequences.back(), std::move(geometry).value()));
     eval::Dataset real{"7scenes", {scenarios.back().get()}, so.params};
@@ -208,12 +208,12 @@ int run(const Options& o) {
     if (!s) spdlog::error("{}", s.error());
     return s.ok();
   };
-  if (wants(1) && !check(experiments.noiseSweep(eval::LabelSourceKind::kPixel))) return tools::kExitFailure;
-  if (wants(2) && !check(experiments.noiseSweep(eval::LabelSourceKind::kRegion))) return tools::kExitFailure;
-  if (wants(3) && !check(experiments.perFrameVsVolumetric())) return tools::kExitFailure;
-  if (wants(4) && !check(experiments.rulesSideBySide())) return tools::kExitFailure;
-  if (wants(5) && !check(experiments.sensitivity())) return tools::kExitFailure;
-  if (wants(6) && !check(experiments.diagnosis(o.diagnosis_noise))) return tools::kExitFailure;
+  if (wants(1) && !check(experiments.noiseSweep(eval::LabelSourceKind::kPixel))) return cli::kExitFailure;
+  if (wants(2) && !check(experiments.noiseSweep(eval::LabelSourceKind::kRegion))) return cli::kExitFailure;
+  if (wants(3) && !check(experiments.perFrameVsVolumetric())) return cli::kExitFailure;
+  if (wants(4) && !check(experiments.rulesSideBySide())) return cli::kExitFailure;
+  if (wants(5) && !check(experiments.sensitivity())) return cli::kExitFailure;
+  if (wants(6) && !check(experiments.diagnosis(o.diagnosis_noise))) return cli::kExitFailure;
   writePlotScript(o.out, dataset_names, rule_names);
 
   std::ostringstream notes;
@@ -234,8 +234,8 @@ int run(const Options& o) {
            " ground truth), so p = 0 gives exactly 0 for each rule. Wrong labels are drawn uniformly from the labels"
            " present in the sequence, with full confidence. Depth is integrated once per sequence and only the label"
            " passes are rerun per noise level and rule (`integrateLabels`, the server's late-segmentation path).\n";
-  if (!check(experiments.writeSummary("deploy/eval.sh", notes.str()))) return tools::kExitFailure;
-  return tools::kExitOk;
+  if (!check(experiments.writeSummary("deploy/eval.sh", notes.str()))) return cli::kExitFailure;
+  return cli::kExitOk;
 }
 
 }  // namespace
@@ -290,10 +290,10 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
   app.add_option("--log-level", o.log_level, std::string("log level: ") + logLevelNames());
-  if (const int code = tools::parseCommandLine(app, argc, argv); code >= 0) return code;
+  if (const int code = cli::parseCommandLine(app, argc, argv); code >= 0) return code;
   if (Status s = setupLogging("semfuse-eval", o.log_level); !s) {
     spdlog::error("{}", s.error());
-    return tools::kExitUsage;
+    return cli::kExitUsage;
   }
   return run(o);
 }

@@ -9,15 +9,15 @@
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
-#include "cli_parse.hpp"
-#include "exit_codes.hpp"
 #include "frame_source.hpp"
-#include "progress.hpp"
+#include "semfuse/cli/command_line.hpp"
+#include "semfuse/cli/exit_codes.hpp"
+#include "semfuse/cli/progress.hpp"
+#include "semfuse/cli/stop_signal.hpp"
 #include "semfuse/client/camera_publisher.hpp"
 #include "semfuse/core/logging.hpp"
 #include "semfuse/dds/error.hpp"
 #include "semfuse/dds/participant.hpp"
-#include "stop_signal.hpp"
 
 namespace {
 
@@ -25,7 +25,7 @@ using namespace semfuse;
 using Clock = std::chrono::steady_clock;
 
 struct Options {
-  tools::CommonOptions common;
+  cli::CommonOptions common;
   std::string source;
   double rate_hz = 30.0;
   std::size_t first = 0;
@@ -83,7 +83,7 @@ void addOptions(CLI::App& app, Options& o) {
   app.add_option("--ack-timeout", o.ack_timeout_s, "seconds to wait at the end until the server has every frame")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  tools::addCommonOptions(app, o.common);
+  cli::addCommonOptions(app, o.common);
 }
 
 std::chrono::milliseconds millis(double seconds) {
@@ -99,18 +99,18 @@ int run(const Options& o) {
   auto opened = tools::openFrameSource(o.source, o.synthetic);
   if (!opened) {
     spdlog::error("{}", opened.error());
-    return tools::kExitFailure;
+    return cli::kExitFailure;
   }
   const tools::FrameSource& source = *opened.value();
   if (source.count() == 0 || o.first >= source.count()) {
     spdlog::error("{} has {} frames; --first {} is past the end", source.describe(), source.count(), o.first);
-    return tools::kExitUsage;
+    return cli::kExitUsage;
   }
   const std::size_t last = std::min(o.last.value_or(source.count() - 1), source.count() - 1);
   const std::size_t per_pass = framesPerPass(o.first, last, o.stride);
   if (per_pass == 0) {
     spdlog::error("--first {} is after --last {}", o.first, last);
-    return tools::kExitUsage;
+    return cli::kExitUsage;
   }
 
   dds::Participant participant(o.common.domain_id < 0 ? DDS_DOMAIN_DEFAULT
@@ -131,15 +131,15 @@ int run(const Options& o) {
         "no semfuse server is reading rt/semfuse/frames after {} s (is semfuse-server running on "
         "this domain?)",
         o.wait_server_s);
-    return tools::kExitTimeout;
+    return cli::kExitTimeout;
   }
 
-  tools::Progress progress("semfuse-camera", o.loop ? 0 : per_pass);
+  cli::Progress progress("semfuse-camera", o.loop ? 0 : per_pass);
   const auto start = Clock::now();
   std::size_t sent = 0;
   std::size_t failed = 0;
-  for (std::size_t pass = 0; !tools::stopRequested(); ++pass) {
-    for (std::size_t k = 0; k < per_pass && !tools::stopRequested(); ++k) {
+  for (std::size_t pass = 0; !cli::stopRequested(); ++pass) {
+    for (std::size_t k = 0; k < per_pass && !cli::stopRequested(); ++k) {
       const std::size_t index = o.first + k * o.stride;
       auto frame = source.load(index);
       if (!frame) {
@@ -167,15 +167,15 @@ int run(const Options& o) {
     if (!o.loop) break;
   }
   progress.finish();
-  if (tools::stopRequested()) spdlog::info("interrupted after {} frames", sent);
+  if (cli::stopRequested()) spdlog::info("interrupted after {} frames", sent);
 
   // Exiting deletes the writer, and with it whatever the server has not acknowledged yet.
   if (Status acked = camera.waitForAcknowledgements(millis(o.ack_timeout_s)); !acked) {
     spdlog::error("the server did not acknowledge every frame: {}", acked.error());
-    return tools::kExitTimeout;
+    return cli::kExitTimeout;
   }
   spdlog::info("sent {} frames ({} failed), all acknowledged", sent, failed);
-  return failed == 0 ? tools::kExitOk : tools::kExitFailure;
+  return failed == 0 ? cli::kExitOk : cli::kExitFailure;
 }
 
 }  // namespace
@@ -185,16 +185,16 @@ int main(int argc, char** argv) {
                "semfuse-camera"};
   Options options;
   addOptions(app, options);
-  if (const int code = tools::parseCommandLine(app, argc, argv); code >= 0) return code;
+  if (const int code = cli::parseCommandLine(app, argc, argv); code >= 0) return code;
   if (Status s = setupLogging("semfuse-camera", options.common.log_level); !s) {
     spdlog::error("{}", s.error());
-    return tools::kExitUsage;
+    return cli::kExitUsage;
   }
-  tools::installStopHandler();
+  cli::installStopHandler();
   try {
     return run(options);
   } catch (const dds::DdsError& e) {
     spdlog::error("DDS: {}", e.what());
-    return tools::kExitFailure;
+    return cli::kExitFailure;
   }
 }

@@ -14,12 +14,12 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "exit_codes.hpp"
-#include "noise_model.hpp"
+#include "semfuse/cli/exit_codes.hpp"
 #include "semfuse/client/map_client.hpp"
 #include "semfuse/core/legend.hpp"
 #include "semfuse/core/logging.hpp"
 #include "semfuse/dds/participant.hpp"
+#include "semfuse/segmentation/noise_model.hpp"
 #include "semfuse/synthetic/synthetic_sequence.hpp"
 #include "semfuse/wire/image_convert.hpp"
 
@@ -95,16 +95,16 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
-    return e.get_exit_code() == 0 ? code : tools::kExitUsage;
+    return e.get_exit_code() == 0 ? code : cli::kExitUsage;
   }
   if (Status ok = setupLogging("semfuse-demo-report", o.log_level); !ok) {
     std::fprintf(stderr, "%s\n", ok.error().c_str());
-    return tools::kExitUsage;
+    return cli::kExitUsage;
   }
-  auto noise_model = segmenter::parseNoiseModel(o.noise_model);
+  auto noise_model = segmentation::parseNoiseModel(o.noise_model);
   if (!noise_model.ok()) {
     spdlog::error("{}", noise_model.error());
-    return tools::kExitUsage;
+    return cli::kExitUsage;
   }
 
   const auto timeout = std::chrono::milliseconds(static_cast<int64_t>(o.timeout_s * 1000));
@@ -113,7 +113,7 @@ int main(int argc, char** argv) {
   auto status = map.stats(timeout);
   if (!status.ok()) {
     spdlog::error("server: {}", status.error());
-    return tools::kExitTimeout;
+    return cli::kExitTimeout;
   }
   const LabelLegend legend = map.waitForLegend(timeout).value_or(*builtinLegend("synthetic"));
 
@@ -122,7 +122,7 @@ int main(int argc, char** argv) {
   config.room.seed = o.seed;
   config.seed = o.seed;
   synthetic::SyntheticSequence sequence(config);
-  segmenter::NoiseParams noise{noise_model.value(), o.noise, o.seed, {}};
+  segmentation::NoiseParams noise{noise_model.value(), o.noise, o.seed, {}};
   for (const auto& info : legend.labels)
     if (info.id != kUnlabeled && !legend.isBackground(info.id)) noise.candidates.push_back(info.id);
 
@@ -133,14 +133,14 @@ int main(int argc, char** argv) {
     auto gt = sequence.frameWithGroundTruth(i);
     if (!gt.ok()) {
       spdlog::error("frame {}: {}", i, gt.error());
-      return tools::kExitServerError;
+      return cli::kExitServerError;
     }
     const auto& [frame, truth] = gt.value();
-    auto noisy = segmenter::addLabelNoise(truth, noise, static_cast<uint64_t>(i));
+    auto noisy = segmentation::addLabelNoise(truth, noise, static_cast<uint64_t>(i));
     auto fused = map.raycast(*frame.camera_to_world, frame.intrinsics, client::kLabelsLayer, timeout);
     if (!noisy.ok() || !fused.ok()) {
       spdlog::error("frame {}: {}", i, !noisy.ok() ? noisy.error() : fused.error());
-      return fused.ok() ? tools::kExitServerError : tools::kExitTimeout;
+      return fused.ok() ? cli::kExitServerError : cli::kExitTimeout;
     }
     const cv::Mat& t = truth.labels;
     const cv::Mat& n = noisy.value().labels;
@@ -174,7 +174,7 @@ int main(int argc, char** argv) {
   }
   if (views.empty()) {
     spdlog::error("no frame with ground truth to evaluate");
-    return tools::kExitServerError;
+    return cli::kExitServerError;
   }
 
   std::vector<double> per_frame, volumetric, coverage;
@@ -215,5 +215,5 @@ int main(int argc, char** argv) {
        << ",\n  \"allocated_voxels\": " << s.allocated_voxels << "\n}\n";
   spdlog::info("per-frame error {:.1f}%, volumetric error {:.1f}% over {} views; report in {}", 100 * mean(per_frame),
                100 * mean(volumetric), views.size(), md_path.string());
-  return tools::kExitOk;
+  return cli::kExitOk;
 }

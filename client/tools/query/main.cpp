@@ -12,17 +12,17 @@
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
-#include "cli_parse.hpp"
-#include "exit_codes.hpp"
 #include "raycast_output.hpp"
 #include "report.hpp"
+#include "semfuse/cli/command_line.hpp"
+#include "semfuse/cli/exit_codes.hpp"
+#include "semfuse/cli/stop_signal.hpp"
 #include "semfuse/client/map_client.hpp"
 #include "semfuse/core/legend_io.hpp"
 #include "semfuse/core/logging.hpp"
 #include "semfuse/datasets/seven_scenes.hpp"
 #include "semfuse/dds/error.hpp"
 #include "semfuse/dds/participant.hpp"
-#include "stop_signal.hpp"
 
 namespace {
 
@@ -30,7 +30,7 @@ using namespace semfuse;
 using client::Failure;
 
 struct Options {
-  tools::CommonOptions common;
+  cli::CommonOptions common;
   double timeout_s = 10.0;
   bool json = false;
   std::string legend;  // fallback when the server publishes none
@@ -59,11 +59,11 @@ struct Options {
 int exitCodeOf(Failure failure) {
   switch (failure) {
     case Failure::kServer:
-      return tools::kExitServerError;
+      return cli::kExitServerError;
     case Failure::kTimeout:
-      return tools::kExitTimeout;
+      return cli::kExitTimeout;
     default:
-      return tools::kExitFailure;
+      return cli::kExitFailure;
   }
 }
 
@@ -136,10 +136,10 @@ class Query {
     auto written = tools::writeRaycastImages(images.value(), legend(), o_.out);
     if (!written) {
       spdlog::error("{}", written.error());
-      return tools::kExitFailure;
+      return cli::kExitFailure;
     }
     for (const auto& file : written.value()) std::cout << file.string() << "\n";
-    return tools::kExitOk;
+    return cli::kExitOk;
   }
 
   int labelsAt() {
@@ -151,7 +151,7 @@ class Query {
     if (!samples) return reportFailure(samples);
     std::cout << (o_.json ? tools::samplesJson(points, samples.value(), legend())
                           : tools::samplesTable(points, samples.value(), legend()));
-    return tools::kExitOk;
+    return cli::kExitOk;
   }
 
   int region() {
@@ -161,7 +161,7 @@ class Query {
     if (!summary) return reportFailure(summary);
     std::cout << (o_.json ? tools::regionJson(summary.value(), legend())
                           : tools::regionTable(summary.value(), legend()));
-    return tools::kExitOk;
+    return cli::kExitOk;
   }
 
   int objects() {
@@ -169,7 +169,7 @@ class Query {
     if (!objects) return reportFailure(objects);
     std::cout << (o_.json ? tools::objectsJson(objects.value(), legend())
                           : tools::objectsTable(objects.value(), legend()));
-    return tools::kExitOk;
+    return cli::kExitOk;
   }
 
   int mesh() {
@@ -186,11 +186,11 @@ class Query {
                static_cast<std::streamsize>(mesh.value().ply.size()));
     if (!file) {
       spdlog::error("cannot write {}", o_.out);
-      return tools::kExitFailure;
+      return cli::kExitFailure;
     }
     spdlog::info("{}: {} vertices, {} faces, {} bytes", o_.out, mesh.value().vertex_count, mesh.value().face_count,
                  mesh.value().ply.size());
-    return tools::kExitOk;
+    return cli::kExitOk;
   }
 
   int status() {
@@ -203,11 +203,11 @@ class Query {
       status = stats.value();
     }
     print(*status);
-    while (o_.watch && !tools::stopRequested()) {
+    while (o_.watch && !cli::stopRequested()) {
       std::this_thread::sleep_for(std::chrono::duration<double>(o_.interval_s));
       if (auto latest = map_.latestStatus()) print(*latest);
     }
-    return tools::kExitOk;
+    return cli::kExitOk;
   }
 
   int admin(const std::string& command) {
@@ -217,13 +217,13 @@ class Query {
     if (!result) return reportFailure(result);
     spdlog::info("{}: done", command);
     if (o_.json) std::cout << tools::statusJson(result.value()) << "\n";
-    return tools::kExitOk;
+    return cli::kExitOk;
   }
 
  private:
   int usage(const std::string& message) const {
     spdlog::error("{}", message);
-    return tools::kExitUsage;
+    return cli::kExitUsage;
   }
 
   void print(const client::ServerStatus& status) const {
@@ -258,7 +258,7 @@ int main(int argc, char** argv) {
   CLI::App app{"Queries a semfuse map server. Exit codes: 0 ok, 2 usage, 3 server error, 4 timeout.", "semfuse-query"};
   app.require_subcommand(1);
   Options o;
-  tools::addCommonOptions(app, o.common);
+  cli::addCommonOptions(app, o.common);
   app.add_option("--timeout", o.timeout_s, "seconds to wait for the server's reply")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
@@ -323,12 +323,12 @@ int main(int argc, char** argv) {
   auto* reset = app.add_subcommand("reset", "clear the map");
   reset->add_flag("--json", o.json, "print the status after the reset as JSON");
 
-  if (const int code = tools::parseCommandLine(app, argc, argv); code >= 0) return code;
+  if (const int code = cli::parseCommandLine(app, argc, argv); code >= 0) return code;
   if (Status s = setupLogging("semfuse-query", o.common.log_level); !s) {
     spdlog::error("{}", s.error());
-    return tools::kExitUsage;
+    return cli::kExitUsage;
   }
-  tools::installStopHandler();
+  cli::installStopHandler();
   try {
     Query query(o);
     if (raycast->parsed()) return query.raycast();
@@ -342,7 +342,7 @@ int main(int argc, char** argv) {
     if (reset->parsed()) return query.admin("reset");
   } catch (const dds::DdsError& e) {
     spdlog::error("DDS: {}", e.what());
-    return tools::kExitFailure;
+    return cli::kExitFailure;
   }
-  return tools::kExitUsage;
+  return cli::kExitUsage;
 }

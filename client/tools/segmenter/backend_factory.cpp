@@ -4,10 +4,10 @@
 
 #include <spdlog/spdlog.h>
 
-#include "dnn_segmenter.hpp"
-#include "ground_truth.hpp"
-#include "noise_model.hpp"
 #include "semfuse/core/legend_io.hpp"
+#include "semfuse/segmentation/dnn_segmenter.hpp"
+#include "semfuse/segmentation/ground_truth.hpp"
+#include "semfuse/segmentation/noise_model.hpp"
 
 namespace semfuse::tools {
 namespace {
@@ -15,17 +15,17 @@ namespace {
 Result<client::SegmentFunction> makeBase(const std::string& kind, const BackendOptions& o) {
   if (kind == "gt") {
     if (o.labels_dir.empty()) {
-      auto gt = std::make_shared<segmenter::SyntheticGroundTruth>();
+      auto gt = std::make_shared<segmentation::SyntheticGroundTruth>();
       return client::SegmentFunction([gt](const Frame& f) { return gt->segment(f); });
     }
-    auto folder = std::make_shared<segmenter::LabelFolder>(o.labels_dir, o.labels_pattern);
+    auto folder = std::make_shared<segmentation::LabelFolder>(o.labels_dir, o.labels_pattern);
     return client::SegmentFunction([folder](const Frame& f) { return folder->segment(f); });
   }
   if (kind == "dnn") {
     if (o.model.empty()) return makeError("the dnn backend needs --model FILE");
-    auto layout = segmenter::parseLayout(o.layout);
+    auto layout = segmentation::parseLayout(o.layout);
     if (!layout) return makeError(layout.error());
-    segmenter::DnnOptions dnn;
+    segmentation::DnnOptions dnn;
     dnn.model = o.model;
     dnn.input_width = o.input_size.at(0);
     dnn.input_height = o.input_size.at(1);
@@ -34,9 +34,9 @@ Result<client::SegmentFunction> makeBase(const std::string& kind, const BackendO
     dnn.scale = o.scale;
     dnn.output_name = o.output_name;
     if (!o.label_map.empty()) dnn.label_map = o.label_map;
-    auto created = segmenter::DnnSegmenter::create(dnn);
+    auto created = segmentation::DnnSegmenter::create(dnn);
     if (!created) return makeError(created.error());
-    std::shared_ptr<segmenter::DnnSegmenter> net = std::move(created).value();
+    std::shared_ptr<segmentation::DnnSegmenter> net = std::move(created).value();
     spdlog::info("dnn: {} loaded, {} classes", o.model, net->classCount());
     // OpenCV's Net is not re-entrant; the Segmenter calls from one worker thread only.
     return client::SegmentFunction([net](const Frame& f) { return net->segment(f); });
@@ -68,16 +68,16 @@ Result<client::SegmentFunction> makeSegmentFunction(const BackendOptions& o) {
   if (o.base == "noise") return makeError("--base cannot be noise");
   auto base = makeBase(o.base, o);
   if (!base) return base;
-  auto model = segmenter::parseNoiseModel(o.noise_model);
+  auto model = segmentation::parseNoiseModel(o.noise_model);
   if (!model) return makeError(model.error());
   auto candidates = noiseCandidates(o);
   if (!candidates) return makeError(candidates.error());
-  segmenter::NoiseParams params{model.value(), o.noise, o.seed, std::move(candidates).value()};
+  segmentation::NoiseParams params{model.value(), o.noise, o.seed, std::move(candidates).value()};
   if (params.candidates.size() < 2) return makeError("label noise needs at least two candidate labels");
   return client::SegmentFunction([inner = std::move(base).value(), params](const Frame& f) -> Result<Segmentation> {
     auto clean = inner(f);
     if (!clean) return clean;
-    return segmenter::addLabelNoise(clean.value(), params, f.seq);
+    return segmentation::addLabelNoise(clean.value(), params, f.seq);
   });
 }
 

@@ -7,20 +7,20 @@
 #include <CLI/CLI.hpp>
 
 #include "backend_factory.hpp"
-#include "cli_parse.hpp"
-#include "exit_codes.hpp"
+#include "semfuse/cli/command_line.hpp"
+#include "semfuse/cli/exit_codes.hpp"
+#include "semfuse/cli/stop_signal.hpp"
 #include "semfuse/client/segmenter.hpp"
 #include "semfuse/core/logging.hpp"
 #include "semfuse/dds/error.hpp"
 #include "semfuse/dds/participant.hpp"
-#include "stop_signal.hpp"
 
 namespace {
 
 using namespace semfuse;
 
 struct Options {
-  tools::CommonOptions common;
+  cli::CommonOptions common;
   tools::BackendOptions backend;
   client::SegmenterOptions segmenter;
   int delay_ms = 0;
@@ -78,7 +78,7 @@ void addOptions(CLI::App& app, Options& o) {
   app.add_option("--report", o.report_s, "seconds between statistics lines")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  tools::addCommonOptions(app, o.common);
+  cli::addCommonOptions(app, o.common);
 }
 
 void report(const client::SegmenterStats& s) {
@@ -92,7 +92,7 @@ int run(Options& o) {
   auto function = tools::makeSegmentFunction(o.backend);
   if (!function) {
     spdlog::error("{}", function.error());
-    return tools::kExitFailure;
+    return cli::kExitFailure;
   }
   o.segmenter.delay = std::chrono::milliseconds(o.delay_ms);
   dds::Participant participant(o.common.domain_id < 0 ? DDS_DOMAIN_DEFAULT
@@ -108,7 +108,7 @@ int run(Options& o) {
   auto last_report = start;
   auto last_activity = start;
   uint64_t last_received = 0;
-  while (!tools::stopRequested()) {
+  while (!cli::stopRequested()) {
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
     const auto now = Clock::now();
     const auto stats = segmenter.stats();
@@ -132,7 +132,7 @@ int run(Options& o) {
     spdlog::warn("{}", acked.error());
   }
   report(segmenter.stats());
-  return tools::kExitOk;
+  return cli::kExitOk;
 }
 
 }  // namespace
@@ -141,16 +141,16 @@ int main(int argc, char** argv) {
   CLI::App app{"Segments the frames a semfuse server receives and publishes their labels.", "semfuse-segmenter"};
   Options options;
   addOptions(app, options);
-  if (const int code = tools::parseCommandLine(app, argc, argv); code >= 0) return code;
+  if (const int code = cli::parseCommandLine(app, argc, argv); code >= 0) return code;
   if (Status s = setupLogging("semfuse-segmenter", options.common.log_level); !s) {
     spdlog::error("{}", s.error());
-    return tools::kExitUsage;
+    return cli::kExitUsage;
   }
-  tools::installStopHandler();
+  cli::installStopHandler();
   try {
     return run(options);
   } catch (const dds::DdsError& e) {
     spdlog::error("DDS: {}", e.what());
-    return tools::kExitFailure;
+    return cli::kExitFailure;
   }
 }

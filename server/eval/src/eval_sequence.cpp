@@ -8,9 +8,9 @@
 #include <spdlog/spdlog.h>
 #include <opencv2/imgcodecs.hpp>
 
-#include "dnn_segmenter.hpp"
 #include "semfuse/datasets/seven_scenes.hpp"
 #include "semfuse/render/raycast.hpp"
+#include "semfuse/segmentation/dnn_segmenter.hpp"
 #include "semfuse/synthetic/synthetic_sequence.hpp"
 #include "semfuse/volume/integrator.hpp"
 
@@ -66,7 +66,7 @@ Result<std::vector<Segmentation>> segmentFrames(
     int input_size, const fs::path& cache,
     const std::function<void(const std::string&, std::size_t, std::size_t)>& on_progress) {
   std::vector<Segmentation> out(indices.size());
-  std::unique_ptr<segmenter::DnnSegmenter> network;
+  std::unique_ptr<segmentation::DnnSegmenter> network;
   std::size_t computed = 0;
   double network_seconds = 0.0;
   const std::string stem = "deeplab" + std::to_string(input_size);
@@ -74,10 +74,10 @@ Result<std::vector<Segmentation>> segmentFrames(
     const fs::path cached = cache / numbered(stem, indices[k], "");
     if (!readCachedSegmentation(cached, out[k])) {
       if (!network) {
-        segmenter::DnnOptions options;
+        segmentation::DnnOptions options;
         options.model = model;
         options.input_width = options.input_height = input_size;
-        auto created = segmenter::DnnSegmenter::create(options);
+        auto created = segmentation::DnnSegmenter::create(options);
         if (!created) return makeError(model.string() + ": " + created.error());
         network = std::move(created).value();
       }

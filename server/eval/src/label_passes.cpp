@@ -3,7 +3,7 @@
 #include <chrono>
 #include <ctime>
 
-#include "noise_model.hpp"
+#include "semfuse/segmentation/noise_model.hpp"
 #include "semfuse/volume/integrator.hpp"
 
 namespace semfuse::eval {
@@ -50,13 +50,13 @@ Result<Segmentation> labelsFor(const EvalSequence& sequence, std::size_t i, cons
   Segmentation result = clean;
   if (source.kind == LabelSourceKind::kPixel || source.kind == LabelSourceKind::kRegion ||
       source.kind == LabelSourceKind::kSimulatedCnn) {
-    segmenter::NoiseParams noise;
+    segmentation::NoiseParams noise;
     noise.model =
-        source.kind == LabelSourceKind::kPixel ? segmenter::NoiseModel::kPixel : segmenter::NoiseModel::kRegion;
+        source.kind == LabelSourceKind::kPixel ? segmentation::NoiseModel::kPixel : segmentation::NoiseModel::kRegion;
     noise.probability = source.probability;
     noise.seed = source.seed;
     noise.candidates = sequence.present_labels;
-    auto noisy = segmenter::addLabelNoise(clean, noise, i);
+    auto noisy = segmentation::addLabelNoise(clean, noise, i);
     if (!noisy) return makeError(noisy.error());
     result = std::move(noisy).value();
     if (source.kind == LabelSourceKind::kSimulatedCnn) {

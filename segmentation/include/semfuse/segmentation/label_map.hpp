@@ -13,7 +13,7 @@
 #include "semfuse/core/legend.hpp"
 #include "semfuse/core/result.hpp"
 
-namespace semfuse::segmenter {
+namespace semfuse::segmentation {
 
 // lookup[class] = legend id, for classes 0..class_count-1.
 using LabelMap = std::vector<LabelId>;
@@ -22,4 +22,4 @@ LabelMap identityLabelMap(int class_count);
 Result<LabelMap> loadLabelMap(const std::filesystem::path& file, int class_count);
 Result<LabelMap> parseLabelMap(const std::string& text, int class_count, const std::string& source);
 
-}  // namespace semfuse::segmenter
+}  // namespace semfuse::segmentation

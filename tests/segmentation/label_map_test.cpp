@@ -1,8 +1,8 @@
 #include <gtest/gtest.h>
 
-#include "label_map.hpp"
+#include "semfuse/segmentation/label_map.hpp"
 
-namespace semfuse::segmenter {
+namespace semfuse::segmentation {
 namespace {
 
 TEST(LabelMap, ParsesPairsAndLeavesUnlistedClassesUnlabeled) {
@@ -31,4 +31,4 @@ TEST(LabelMap, IdentityMapsEachClassToItself) {
 }
 
 }  // namespace
-}  // namespace semfuse::segmenter
+}  // namespace semfuse::segmentation

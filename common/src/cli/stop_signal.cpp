@@ -1,8 +1,8 @@
-#include "stop_signal.hpp"
+#include "semfuse/cli/stop_signal.hpp"
 
 #include <csignal>
 
-namespace semfuse::tools {
+namespace semfuse::cli {
 namespace {
 volatile std::sig_atomic_t g_stop = 0;
 void onSignal(int) { g_stop = 1; }
@@ -15,4 +15,4 @@ void installStopHandler() {
 
 bool stopRequested() { return g_stop != 0; }
 
-}  // namespace semfuse::tools
+}  // namespace semfuse::cli

@@ -7,11 +7,11 @@
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>
 
-#include "dnn_segmenter.hpp"
 #include "semfuse/datasets/seven_scenes.hpp"
+#include "semfuse/segmentation/dnn_segmenter.hpp"
 #include "shared_data.hpp"
 
-namespace semfuse::segmenter {
+namespace semfuse::segmentation {
 namespace {
 
 std::filesystem::path vocModel() { return testing::sharedDir() / "models" / "deeplabv3_mnv2_voc_257_opencv.onnx"; }
@@ -109,4 +109,4 @@ TEST(DnnSegmenter, RejectsAFrameWithoutColourAndAMissingModel) {
 }
 
 }  // namespace
-}  // namespace semfuse::segmenter
+}  // namespace semfuse::segmentation

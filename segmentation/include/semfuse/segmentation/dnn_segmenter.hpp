@@ -10,11 +10,11 @@
 
 #include <opencv2/core/mat.hpp>
 
-#include "label_map.hpp"
 #include "semfuse/core/result.hpp"
 #include "semfuse/core/types.hpp"
+#include "semfuse/segmentation/label_map.hpp"
 
-namespace semfuse::segmenter {
+namespace semfuse::segmentation {
 
 enum class TensorLayout { kNchw, kNhwc };
 
@@ -56,4 +56,4 @@ class DnnSegmenter {
   LabelMap label_map_;
 };
 
-}  // namespace semfuse::segmenter
+}  // namespace semfuse::segmentation

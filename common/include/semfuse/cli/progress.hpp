@@ -6,7 +6,7 @@
 #include <cstddef>
 #include <string>
 
-namespace semfuse::tools {
+namespace semfuse::cli {
 
 class Progress {
  public:
@@ -36,4 +36,4 @@ class Progress {
 // "1m05s", "12s".
 std::string formatDuration(double seconds);
 
-}  // namespace semfuse::tools
+}  // namespace semfuse::cli

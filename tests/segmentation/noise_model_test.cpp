@@ -8,9 +8,9 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "noise_model.hpp"
+#include "semfuse/segmentation/noise_model.hpp"
 
-namespace semfuse::segmenter {
+namespace semfuse::segmentation {
 namespace {
 
 // 200x200: four quadrants labelled 1..4, with a 20-pixel unlabeled band at the top.
@@ -114,4 +114,4 @@ TEST(RegionNoise, SwitchesWholeRegionsAboutPOfThem) {
 }
 
 }  // namespace
-}  // namespace semfuse::segmenter
+}  // namespace semfuse::segmentation

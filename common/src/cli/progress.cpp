@@ -1,4 +1,4 @@
-#include "progress.hpp"
+#include "semfuse/cli/progress.hpp"
 
 #include <unistd.h>
 
@@ -7,7 +7,7 @@
 
 #include <spdlog/spdlog.h>
 
-namespace semfuse::tools {
+namespace semfuse::cli {
 
 std::string formatDuration(double seconds) {
   if (!std::isfinite(seconds) || seconds < 0) return "?";
@@ -77,4 +77,4 @@ void Progress::finish() {
   spdlog::info("{}: {} frames in {} ({:.1f} frames/s)", label_, done_, formatDuration(elapsed), rate());
 }
 
-}  // namespace semfuse::tools
+}  // namespace semfuse::cli

@@ -1,11 +1,11 @@
-#include "dnn_segmenter.hpp"
+#include "semfuse/segmentation/dnn_segmenter.hpp"
 
 #include <cmath>
 
 #include <opencv2/dnn.hpp>
 #include <opencv2/imgproc.hpp>
 
-namespace semfuse::segmenter {
+namespace semfuse::segmentation {
 
 struct DnnSegmenter::Net {
   cv::dnn::Net net;
@@ -127,4 +127,4 @@ Result<Segmentation> DnnSegmenter::segmentImage(const cv::Mat& rgb) {
   return result;
 }
 
-}  // namespace semfuse::segmenter
+}  // namespace semfuse::segmentation

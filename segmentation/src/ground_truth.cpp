@@ -1,4 +1,4 @@
-#include "ground_truth.hpp"
+#include "semfuse/segmentation/ground_truth.hpp"
 
 #include <fmt/format.h>
 #include <opencv2/imgcodecs.hpp>
@@ -6,7 +6,7 @@
 #include "semfuse/synthetic/room.hpp"
 #include "semfuse/synthetic/view_renderer.hpp"
 
-namespace semfuse::segmenter {
+namespace semfuse::segmentation {
 
 // Geometry and labels of the room do not depend on its texture seed, so the default room has
 // exactly the labels of whatever room semfuse-camera rendered.
@@ -41,4 +41,4 @@ Result<Segmentation> LabelFolder::segment(const Frame& frame) const {
   return result;
 }
 
-}  // namespace semfuse::segmenter
+}  // namespace semfuse::segmentation

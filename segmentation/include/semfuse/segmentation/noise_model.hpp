@@ -15,7 +15,7 @@
 #include "semfuse/core/result.hpp"
 #include "semfuse/core/types.hpp"
 
-namespace semfuse::segmenter {
+namespace semfuse::segmentation {
 
 enum class NoiseModel { kPixel, kRegion };
 
@@ -32,4 +32,4 @@ Result<NoiseModel> parseNoiseModel(const std::string& text);
 // becomes 1, others keep theirs (1 where clean has none).
 Result<Segmentation> addLabelNoise(const Segmentation& clean, const NoiseParams& params, uint64_t frame_seq);
 
-}  // namespace semfuse::segmenter
+}  // namespace semfuse::segmentation

@@ -1,11 +1,11 @@
-#include "noise_model.hpp"
+#include "semfuse/segmentation/noise_model.hpp"
 
 #include <algorithm>
 #include <random>
 
 #include <opencv2/imgproc.hpp>
 
-namespace semfuse::segmenter {
+namespace semfuse::segmentation {
 namespace {
 
 // A wrong label for `current`: uniform over the candidates other than `current`.
@@ -91,4 +91,4 @@ Result<Segmentation> addLabelNoise(const Segmentation& clean, const NoiseParams&
   return noisy;
 }
 
-}  // namespace semfuse::segmenter
+}  // namespace semfuse::segmentation

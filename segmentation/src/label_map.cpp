@@ -1,10 +1,10 @@
-#include "label_map.hpp"
+#include "semfuse/segmentation/label_map.hpp"
 
 #include <fstream>
 #include <limits>
 #include <sstream>
 
-namespace semfuse::segmenter {
+namespace semfuse::segmentation {
 
 LabelMap identityLabelMap(int class_count) {
   LabelMap map(static_cast<std::size_t>(class_count));
@@ -46,4 +46,4 @@ Result<LabelMap> loadLabelMap(const std::filesystem::path& file, int class_count
   return parseLabelMap(text.str(), class_count, file.string());
 }
 
-}  // namespace semfuse::segmenter
+}  // namespace semfuse::segmentation

@@ -1,13 +1,13 @@
-#include "cli_parse.hpp"
+#include "semfuse/cli/command_line.hpp"
 
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
 
-#include "exit_codes.hpp"
+#include "semfuse/cli/exit_codes.hpp"
 #include "semfuse/core/logging.hpp"
 
-namespace semfuse::tools {
+namespace semfuse::cli {
 
 int parseCommandLine(CLI::App& app, int argc, char** argv) {
   try {
@@ -45,4 +45,4 @@ void addCommonOptions(CLI::App& app, CommonOptions& options) {
       });
 }
 
-}  // namespace semfuse::tools
+}  // namespace semfuse::cli

@@ -10,7 +10,7 @@
 #include "semfuse/core/types.hpp"
 #include "semfuse/synthetic/labeled_scene.hpp"
 
-namespace semfuse::segmenter {
+namespace semfuse::segmentation {
 
 class SyntheticGroundTruth {
  public:
@@ -35,4 +35,4 @@ class LabelFolder {
   std::string pattern_;
 };
 
-}  // namespace semfuse::segmenter
+}  // namespace semfuse::segmentation

@@ -1,10 +1,10 @@
 #pragma once
-// Command line handling every semfuse client program does the same way: bad usage prints the
-// error and the help text on stderr and exits 2 (CLI11's own default exit code for parse errors
-// is 106 and varies by error, which scripts cannot rely on).
+// Command line handling the semfuse client programs and semfuse-eval do the same way: bad usage
+// prints the error and the help text on stderr and exits 2 (CLI11's own default exit code for
+// parse errors is 106 and varies by error, which scripts cannot rely on).
 #include <CLI/App.hpp>
 
-namespace semfuse::tools {
+namespace semfuse::cli {
 
 // Parses argv. Returns -1 to go on; otherwise the exit code the program must return now
 // (0 after --help/--version, 2 after a usage error).
@@ -20,4 +20,4 @@ struct CommonOptions {
 };
 void addCommonOptions(CLI::App& app, CommonOptions& options);
 
-}  // namespace semfuse::tools
+}  // namespace semfuse::cli
