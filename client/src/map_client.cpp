@@ -11,6 +11,7 @@
 #include "semfuse/dds/waitset.hpp"
 #include "semfuse/wire/frame_codec.hpp"
 #include "semfuse/wire/message_codecs.hpp"
+#include "semfuse/wire/reply_status.hpp"
 
 namespace semfuse::client {
 namespace {
@@ -23,6 +24,13 @@ using MeshRpc = dds::RpcClient<semfuse_srv_dds__Mesh_Request_, semfuse_srv_dds__
 using AdminRpc = dds::RpcClient<semfuse_srv_dds__Admin_Request_, semfuse_srv_dds__Admin_Response_>;
 
 geometry_msgs_msg_dds__Point_ toPoint(const Eigen::Vector3d& p) { return {p.x(), p.y(), p.z()}; }
+
+// A reply with a non-OK status: the server's message, with the code of its status.
+template <class Reply>
+Error serverError(const Reply& reply) {
+  return makeError(wire::errorCodeOfReplyStatus(reply.status),
+                   "server error " + std::to_string(reply.status) + ": " + std::string(dds::replyMessage(reply)));
+}
 Eigen::Vector3d fromPoint(const geometry_msgs_msg_dds__Point_& p) { return {p.x, p.y, p.z}; }
 
 // One request/reply round trip. RpcClient reports only transport problems as errors (no server
@@ -35,7 +43,7 @@ auto call(Rpc& rpc, dds::Sample<Request>& request, Timeout timeout, Convert&& co
   if (!reply) return {Failure::kTimeout, reply.error()};
   const Reply& r = *reply.value();
   if (!dds::replyOk(r)) {
-    return {Failure::kServer, "server error " + std::to_string(r.status) + ": " + std::string(dds::replyMessage(r))};
+    return {Failure::kServer, serverError(r)};
   }
   return convert(r);
 }
@@ -117,7 +125,7 @@ CallResult<RaycastImages> MapClient::raycast(const Pose& camera_to_world, const 
   if (!reply) return {Failure::kTimeout, reply.error()};
   auto& r = *reply.value();
   if (!dds::replyOk(r)) {
-    return {Failure::kServer, "server error " + std::to_string(r.status) + ": " + std::string(dds::replyMessage(r))};
+    return {Failure::kServer, serverError(r)};
   }
   RaycastImages images;
   const std::pair<sensor_msgs_msg_dds__Image_*, cv::Mat*> layers_out[] = {{&r.depth, &images.depth},
@@ -196,7 +204,7 @@ CallResult<MeshData> MapClient::mesh(const std::optional<Box>& box, Timeout time
     if (!reply) return {Failure::kTimeout, reply.error()};
     const auto& r = *reply.value();
     if (!dds::replyOk(r)) {
-      return {Failure::kServer, "server error " + std::to_string(r.status) + ": " + std::string(dds::replyMessage(r))};
+      return {Failure::kServer, serverError(r)};
     }
     if (Status added = assembly.add(r, chunk); !added) return {Failure::kClient, added.error()};
   }

@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>
 
+#include "semfuse/client/map_client.hpp"
 #include "semfuse/synthetic/synthetic_sequence.hpp"
 #include "semfuse/volume/map_file.hpp"
 #include "semfuse/wire/frame_codec.hpp"
@@ -286,6 +287,31 @@ TEST_F(ServerEndToEnd, RejectsBadInputCountsItAndKeepsServing) {
   auto reply = h.raycast().call(request, 20s);
   ASSERT_TRUE(reply.ok()) << reply.error();
   EXPECT_EQ(reply.value()->status, 0) << dds::replyMessage(*reply.value());
+  EXPECT_TRUE(h.serverRunning());
+}
+
+// A failed query reaches a user of the client library with the kind the server gave it, from
+// the reply's status: the caller can tell a missing map from a bad request without its message.
+TEST_F(ServerEndToEnd, ServiceFailuresReachTheClientLibraryWithTheirCodes) {
+  ServerHarness h(serverTestDomain());
+  h.startServer(serverArgs(dir_ / "codes.vdb"));
+  client::MapClient map(h.participant());
+
+  auto missing = map.load((dir_ / "no_such_map.vdb").string(), 30s);
+  ASSERT_FALSE(missing.ok());
+  EXPECT_EQ(missing.failure(), client::Failure::kServer) << missing.error();
+  EXPECT_EQ(missing.errorCode(), ErrorCode::kNotFound) << missing.error();
+
+  const PinholeIntrinsics no_focal{64, 48, 0.0, 50.0, 32.0, 24.0};
+  auto invalid = map.raycast(Pose::Identity(), no_focal, client::kAllLayers, 30s);
+  ASSERT_FALSE(invalid.ok());
+  EXPECT_EQ(invalid.failure(), client::Failure::kServer) << invalid.error();
+  EXPECT_EQ(invalid.errorCode(), ErrorCode::kInvalidArgument) << invalid.error();
+
+  const PinholeIntrinsics huge{100000, 100000, 500.0, 500.0, 50000.0, 50000.0};
+  auto too_large = map.raycast(Pose::Identity(), huge, client::kAllLayers, 30s);
+  ASSERT_FALSE(too_large.ok());
+  EXPECT_EQ(too_large.errorCode(), ErrorCode::kTooLarge) << too_large.error();
   EXPECT_TRUE(h.serverRunning());
 }
 

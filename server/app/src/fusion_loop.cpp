@@ -50,8 +50,8 @@ Status FusionLoop::runOnFusionThread(std::function<Status()> task, std::chrono::
   }
   frames_.wake();
   if (result.wait_for(timeout) != std::future_status::ready)
-    return makeError("the fusion thread did not run the request within " + std::to_string(timeout.count()) +
-                     " ms (busy integrating)");
+    return makeError(ErrorCode::kUnavailable, "the fusion thread did not run the request within " +
+                                                  std::to_string(timeout.count()) + " ms (busy integrating)");
   return result.get();
 }
 
@@ -115,7 +115,7 @@ void FusionLoop::processFrame(Frame frame) {
   }
   auto outcome = mapper_.integrateFrame(frame, same_pass);
   if (!outcome.ok()) {
-    const bool no_pose = outcome.error().find("first frame has no pose") != std::string::npos;
+    const bool no_pose = outcome.errorCode() == ErrorCode::kNoPose;
     state_.reject(no_pose ? reason::kNoPose : reason::kIntegrationFailed, frame.camera_id,
                   "frame " + frame.camera_id + "/" + std::to_string(frame.seq), outcome.error());
     // Remember the frame so its segmentations are rejected at once instead of waiting.

@@ -163,7 +163,8 @@ int FusionServer::run() {
 }
 
 Status FusionServer::saveMap(const std::string& path) {
-  if (path.empty()) return makeError("no map file: start the server with --map FILE or give a path");
+  if (path.empty())
+    return makeError(ErrorCode::kInvalidArgument, "no map file: start the server with --map FILE or give a path");
   std::lock_guard lock(save_mutex_);
   const auto start = std::chrono::steady_clock::now();
   volume::MapExtraMetadata extra{{"server_id", config_.server_id}};

@@ -44,9 +44,9 @@ Result<tracking::TrackedFrame> Mapper::choosePose(const Frame& frame, FrameOutco
       map_empty = volume_.framesIntegrated() == 0;
     }
     if (!map_empty || !cameras_.empty())
-      return makeError("camera '" + frame.camera_id +
-                       "': first frame has no pose, and the map already has a world frame; "
-                       "send the first frame of a new camera with its camera_to_world pose");
+      return makeError(ErrorCode::kNoPose, "camera '" + frame.camera_id +
+                                               "': first frame has no pose, and the map already has a world frame; "
+                                               "send the first frame of a new camera with its camera_to_world pose");
   }
   // Work on a copy: a frame the tracker rejects as malformed must leave the camera's state alone.
   tracking::CameraTrackState state = known == cameras_.end() ? tracking::CameraTrackState{} : known->second;
@@ -76,7 +76,7 @@ Result<tracking::TrackedFrame> Mapper::choosePose(const Frame& frame, FrameOutco
 Result<FrameOutcome> Mapper::integrateFrame(const Frame& frame, const Segmentation* segmentation) {
   FrameOutcome outcome;
   auto tracked = choosePose(frame, outcome);
-  if (!tracked.ok()) return Error{tracked.error()};
+  if (!tracked.ok()) return tracked.errorInfo();
   if (!tracked.value().shouldIntegrate()) return outcome;
 
   Frame posed = frame;  // shallow: cv::Mat shares pixels
@@ -89,7 +89,7 @@ Result<FrameOutcome> Mapper::integrateFrame(const Frame& frame, const Segmentati
     if (stats.ok()) ++revision_;
   }
   outcome.integrate_ms = millisecondsSince(start);
-  if (!stats.ok()) return Error{stats.error()};
+  if (!stats.ok()) return stats.errorInfo();
   outcome.stats = stats.value();
   outcome.integrated = true;
   return outcome;
@@ -112,18 +112,20 @@ Status Mapper::save(const std::filesystem::path& path, const volume::MapExtraMet
 
 Status Mapper::load(const std::filesystem::path& path) {
   auto loaded = volume::loadMap(path);
-  if (!loaded.ok()) return Error{loaded.error()};
+  if (!loaded.ok()) return loaded.errorInfo();
   const auto& params = loaded.value().volume.params();
   const auto& mine = options_.volume;
   if (std::abs(params.voxel_size - mine.voxel_size) > 1e-9 || std::abs(params.truncation - mine.truncation) > 1e-9)
-    return makeError(path.string() + ": map has voxel size " + std::to_string(params.voxel_size) +
-                     " m and truncation " + std::to_string(params.truncation) + " m; this server runs with " +
-                     std::to_string(mine.voxel_size) + " m / " + std::to_string(mine.truncation) +
-                     " m (start it with the map's values)");
+    return makeError(ErrorCode::kInvalidArgument,
+                     path.string() + ": map has voxel size " + std::to_string(params.voxel_size) +
+                         " m and truncation " + std::to_string(params.truncation) + " m; this server runs with " +
+                         std::to_string(mine.voxel_size) + " m / " + std::to_string(mine.truncation) +
+                         " m (start it with the map's values)");
   if (params.label_rule != mine.label_rule)
-    return makeError(path.string() + ": map fuses labels with the '" + volume::labelRuleName(params.label_rule) +
-                     "' rule; this server runs '" + volume::labelRuleName(mine.label_rule) +
-                     "' (start it with --label-rule " + volume::labelRuleName(params.label_rule) + ")");
+    return makeError(ErrorCode::kInvalidArgument,
+                     path.string() + ": map fuses labels with the '" + volume::labelRuleName(params.label_rule) +
+                         "' rule; this server runs '" + volume::labelRuleName(mine.label_rule) +
+                         "' (start it with --label-rule " + volume::labelRuleName(params.label_rule) + ")");
   std::unique_lock lock(mutex_);
   volume_ = std::move(loaded.value().volume);
   cameras_.clear();  // tracking restarts from the poses the next frames carry

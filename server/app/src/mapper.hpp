@@ -50,8 +50,9 @@ class Mapper {
  public:
   explicit Mapper(MapperOptions options);
 
-  // Fusion thread only. Errors: bad input (sizes, intrinsics) or a camera whose first frame
-  // has no pose while the map already has content (it could not be placed in the world frame).
+  // Fusion thread only. Errors: bad input (sizes, intrinsics), or ErrorCode::kNoPose for a camera
+  // whose first frame has no pose while the map already has content (it could not be placed in
+  // the world frame).
   Result<FrameOutcome> integrateFrame(const Frame& frame, const Segmentation* segmentation = nullptr);
   Result<volume::IntegrationStats> integrateSegmentation(const HistoryEntry& frame, const Segmentation& segmentation);
 
@@ -72,8 +73,9 @@ class Mapper {
   const volume::VolumeParams& volumeParams() const { return options_.volume; }
 
   Status save(const std::filesystem::path& path, const volume::MapExtraMetadata& extra = {}) const;
-  // Replaces the map with a file's content; the map is untouched when the file is bad or its
-  // parameters are incompatible with this server's (voxel size, truncation).
+  // Replaces the map with a file's content; the map is untouched when the file is missing
+  // (kNotFound), bad or its parameters are incompatible with this server's (voxel size,
+  // truncation, label rule: kInvalidArgument).
   // Fusion thread only (the server posts admin load/reset to it), like integrateFrame().
   Status load(const std::filesystem::path& path);
   void reset();

@@ -11,6 +11,7 @@
 #include "semfuse/render/raycast.hpp"
 #include "semfuse/wire/frame_codec.hpp"
 #include "semfuse/wire/image_message.hpp"
+#include "semfuse/wire/reply_status.hpp"
 #include "semfuse/wire/validation.hpp"
 #include "tbb_worker_names.hpp"
 
@@ -19,7 +20,6 @@ namespace {
 constexpr int32_t kOk = semfuse_srv_dds__Status_Constants_OK;
 constexpr int32_t kInvalid = semfuse_srv_dds__Status_Constants_INVALID_ARGUMENT;
 constexpr int32_t kNotFound = semfuse_srv_dds__Status_Constants_NOT_FOUND;
-constexpr int32_t kUnavailable = semfuse_srv_dds__Status_Constants_UNAVAILABLE;
 constexpr int32_t kInternal = semfuse_srv_dds__Status_Constants_INTERNAL;
 constexpr int32_t kTooLarge = semfuse_srv_dds__Status_Constants_TOO_LARGE;
 constexpr size_t kMeshesKept = 4;
@@ -256,7 +256,7 @@ void Services::admin(const semfuse_srv_dds__Admin_Request_& request, semfuse_srv
                     "unknown admin command " + std::to_string(request.command) + " (0 stats, 1 save, 2 load, 3 reset)");
   }
   if (!result.ok()) {
-    dds::setReplyStatus(reply, kUnavailable, result.error());
+    dds::setReplyStatus(reply, wire::replyStatusOf(result.errorCode()), result.error());
     state_.errors.record("admin", result.error());
     state_.touch();
   } else {

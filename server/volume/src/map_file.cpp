@@ -206,7 +206,11 @@ bool processIsAlive(pid_t pid) { return ::kill(pid, 0) == 0 || errno == EPERM; }
 // The whole file in memory: what is verified is exactly what OpenVDB then reads.
 Result<std::string> readWholeFile(const fs::path& path) {
   std::ifstream in(path, std::ios::binary | std::ios::ate);
-  if (!in) return makeError("cannot open " + path.string());
+  if (!in) {
+    std::error_code ignored;
+    return makeError(fs::exists(path, ignored) ? ErrorCode::kInternal : ErrorCode::kNotFound,
+                     "cannot open " + path.string());
+  }
   const std::streamoff size = in.tellg();
   if (size < 0) return makeError("cannot read " + path.string());
   std::string bytes(static_cast<std::size_t>(size), '\0');
@@ -225,7 +229,7 @@ typename GridT::Ptr findGrid(const openvdb::GridPtrVec& grids, const std::string
 
 Result<LoadedMap> readMap(const fs::path& path) {
   auto file = readWholeFile(path);
-  if (!file) return makeError(file.error());
+  if (!file) return file.errorInfo();
   auto payload = detail::verifySeal(file.value());
   if (!payload) return makeError(payload.error());
   detail::MemoryReadBuffer buffer(payload.value());
@@ -387,7 +391,12 @@ Result<LoadedMap> loadMap(const fs::path& path) {
   openvdb::initialize();
   removeStaleTemporaries(path);
   auto map = readMap(path);
-  if (!map) return makeError("loading map " + path.string() + ": " + map.error());
+  if (!map) {
+    Error error = map.errorInfo().prefixed("loading map " + path.string() + ": ");
+    // Past finding the file, every failure is a file that is not a valid map.
+    if (error.code == ErrorCode::kUnspecified) error.code = ErrorCode::kInvalidArgument;
+    return error;
+  }
   return map;
 }
 

@@ -1,7 +1,8 @@
 #pragma once
 // CallResult<T>: the outcome of one request to the server — a value, or a failure that says
 // whether the server answered with an error or never answered, because a caller (and the query
-// CLI's exit code) treats the two differently.
+// CLI's exit code) treats the two differently. A server's error keeps the kind the server gave it
+// (errorCode(), from the reply's status: not found, invalid argument, too large, ...).
 #include <string>
 #include <utility>
 
@@ -20,7 +21,11 @@ template <class T>
 class [[nodiscard]] CallResult {
  public:
   CallResult(T value) : result_(std::move(value)) {}  // NOLINT(google-explicit-constructor)
-  CallResult(Failure failure, std::string message) : result_(Error{std::move(message)}), failure_(failure) {}
+  // A failure with the code its kind implies: kUnavailable for a timeout, else kUnspecified.
+  CallResult(Failure failure, std::string message)
+      : CallResult(failure, Error{std::move(message),
+                                  failure == Failure::kTimeout ? ErrorCode::kUnavailable : ErrorCode::kUnspecified}) {}
+  CallResult(Failure failure, Error error) : result_(std::move(error)), failure_(failure) {}
 
   bool ok() const { return result_.ok(); }
   explicit operator bool() const { return ok(); }
@@ -29,6 +34,7 @@ class [[nodiscard]] CallResult {
   T& value() & { return result_.value(); }
   T&& value() && { return std::move(result_).value(); }
   const std::string& error() const { return result_.error(); }
+  ErrorCode errorCode() const { return result_.errorCode(); }
 
  private:
   Result<T> result_;

@@ -1,15 +1,56 @@
 #pragma once
-// Result<T>: a value or an error message. Used wherever input from outside (the wire, files,
-// datasets) can be malformed, so that callers get a precise reason instead of an exception.
+// Result<T>: a value or an error. Used wherever input from outside (the wire, files, datasets)
+// can be malformed, so that callers get a precise reason instead of an exception.
+//
+// An error has a message, for people, and a code, for code: a caller that reacts to the kind of
+// failure (a drop reason, a service reply's status, a client's exit code) switches on the code and
+// never reads the message. makeError(message) gives the unspecified code, which is right wherever
+// nobody needs to tell that failure from others.
 #include <cassert>
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <variant>
 
 namespace semfuse {
 
+enum class ErrorCode : uint8_t {
+  kUnspecified = 0,  // nothing more specific: the message says what went wrong
+  kInvalidArgument,  // the input is malformed, out of range or incompatible with what it meets
+  kNotFound,         // what was named does not exist (a file, a held mesh)
+  kTooLarge,         // the input exceeds a configured limit
+  kUnavailable,      // not now: busy, shutting down, or no answer in time
+  kInternal,         // a fault on the side that answers (I/O, a broken invariant)
+  kNoPose,           // a camera's first frame has no pose while the map already has a world frame
+};
+
+// "unspecified", "invalid_argument", ... for logs and messages.
+inline const char* errorCodeName(ErrorCode code) {
+  switch (code) {
+    case ErrorCode::kUnspecified:
+      return "unspecified";
+    case ErrorCode::kInvalidArgument:
+      return "invalid_argument";
+    case ErrorCode::kNotFound:
+      return "not_found";
+    case ErrorCode::kTooLarge:
+      return "too_large";
+    case ErrorCode::kUnavailable:
+      return "unavailable";
+    case ErrorCode::kInternal:
+      return "internal";
+    case ErrorCode::kNoPose:
+      return "no_pose";
+  }
+  return "unknown";
+}
+
 struct Error {
   std::string message;
+  ErrorCode code = ErrorCode::kUnspecified;
+
+  // The same error with context in front of its message ("loading map x: " + message).
+  Error prefixed(const std::string& context) const { return {context + message, code}; }
 };
 
 template <typename T>
@@ -33,9 +74,12 @@ class [[nodiscard]] Result {
     assert(ok());
     return std::get<T>(std::move(state_));
   }
-  const std::string& error() const {
+  const std::string& error() const { return errorInfo().message; }
+  ErrorCode errorCode() const { return errorInfo().code; }
+  // Message and code together, to pass the error on: `if (!r) return r.errorInfo();`.
+  const Error& errorInfo() const {
     assert(!ok());
-    return std::get<Error>(state_).message;
+    return std::get<Error>(state_);
   }
 
  private:
@@ -46,18 +90,21 @@ class [[nodiscard]] Result {
 class [[nodiscard]] Status {
  public:
   Status() = default;
-  Status(Error error) : error_(std::move(error.message)), failed_(true) {}  // NOLINT
+  Status(Error error) : error_(std::move(error)), failed_(true) {}  // NOLINT(google-explicit-constructor)
   static Status Ok() { return {}; }
 
   bool ok() const { return !failed_; }
   explicit operator bool() const { return ok(); }
-  const std::string& error() const { return error_; }
+  const std::string& error() const { return error_.message; }  // empty when ok
+  ErrorCode errorCode() const { return error_.code; }          // kUnspecified when ok
+  const Error& errorInfo() const { return error_; }
 
  private:
-  std::string error_;
+  Error error_;
   bool failed_ = false;
 };
 
 inline Error makeError(std::string message) { return Error{std::move(message)}; }
+inline Error makeError(ErrorCode code, std::string message) { return Error{std::move(message), code}; }
 
 }  // namespace semfuse

@@ -43,6 +43,8 @@ struct LoadedMap {
 Status saveMap(const LabeledVolume& volume, const LabelLegend& legend, const std::filesystem::path& path,
                const MapExtraMetadata& extra = {});
 
+// Errors: ErrorCode::kNotFound when there is no file, kInternal when it cannot be read, else
+// kInvalidArgument (not a map, damaged, a version this build does not read).
 Result<LoadedMap> loadMap(const std::filesystem::path& path);
 
 // Removes the temporary files of the map at `path` whose writing process no longer runs (a kill

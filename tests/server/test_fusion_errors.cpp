@@ -1,0 +1,122 @@
+// The server core tells failures apart by their error codes, never by their messages: which
+// reason a rejected frame is counted under, and the codes an admin load or a late task fails with
+// (the status the admin service replies with).
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include <gtest/gtest.h>
+
+#include "fusion_loop.hpp"
+#include "mapper.hpp"
+#include "semfuse/wire/reply_status.hpp"
+#include "server_state.hpp"
+#include "srv.h"
+
+using namespace semfuse;
+using namespace semfuse::server;
+using namespace std::chrono_literals;
+
+namespace {
+
+constexpr int kWidth = 64, kHeight = 48;
+
+MapperOptions mapperOptions(double voxel_size = 0.02) {
+  MapperOptions options;
+  options.volume.voxel_size = voxel_size;
+  options.volume.truncation = 0.08;
+  options.legend = *builtinLegend("synthetic");
+  return options;
+}
+
+// A wall 1.5 m in front of the camera.
+Frame wallFrame(const std::string& camera, uint64_t seq, bool with_pose) {
+  Frame frame;
+  frame.camera_id = camera;
+  frame.seq = seq;
+  frame.intrinsics = {kWidth, kHeight, 50.0, 50.0, kWidth / 2.0 - 0.5, kHeight / 2.0 - 0.5};
+  frame.depth = cv::Mat(kHeight, kWidth, CV_32FC1, cv::Scalar(1.5f));
+  if (with_pose) frame.camera_to_world = Pose::Identity();
+  return frame;
+}
+
+void waitIdle(const FusionLoop& loop) {
+  for (int i = 0; i < 400 && !loop.idle(); ++i) std::this_thread::sleep_for(5ms);
+  ASSERT_TRUE(loop.idle());
+}
+
+}  // namespace
+
+TEST(FusionErrors, FirstFrameWithoutPoseIsCountedAsSuchOtherFailuresAsIntegrationFailures) {
+  Mapper mapper(mapperOptions());
+  FrameQueue frames(4);
+  ServerState state;
+  FusionLoop loop(mapper, frames, state, FusionLimits{}, nullptr);
+  loop.start();
+  ASSERT_FALSE(frames.push(wallFrame("a", 1, true)));
+  waitIdle(loop);
+  // A second camera whose first frame carries no pose cannot be placed in the map's world frame.
+  ASSERT_FALSE(frames.push(wallFrame("b", 1, false)));
+  // A frame whose depth does not match its intrinsics fails for another reason.
+  Frame mismatched = wallFrame("c", 1, true);
+  mismatched.depth = cv::Mat(kHeight / 2, kWidth / 2, CV_32FC1, cv::Scalar(1.5f));
+  ASSERT_FALSE(frames.push(mismatched));
+  waitIdle(loop);
+  loop.stop();
+
+  EXPECT_EQ(state.frames_integrated.load(), 1u);
+  EXPECT_EQ(state.rejected.get(reason::kNoPose, "b"), 1u);
+  EXPECT_EQ(state.rejected.get(reason::kIntegrationFailed, "b"), 0u);
+  EXPECT_EQ(state.rejected.get(reason::kIntegrationFailed, "c"), 1u);
+  EXPECT_EQ(state.rejected.get(reason::kNoPose, "c"), 0u);
+}
+
+TEST(FusionErrors, MapperGivesTheNoPoseCodeOnlyOnceTheMapHasAWorldFrame) {
+  Mapper mapper(mapperOptions());
+  // The first camera of an empty map defines the world frame: no pose needed.
+  ASSERT_TRUE(mapper.integrateFrame(wallFrame("a", 1, false)).ok());
+  auto second = mapper.integrateFrame(wallFrame("b", 1, false));
+  ASSERT_FALSE(second.ok());
+  EXPECT_EQ(second.errorCode(), ErrorCode::kNoPose);
+  EXPECT_NE(second.error(), "");
+}
+
+TEST(FusionErrors, AdminLoadFailuresCarryTheCodeTheServiceRepliesWith) {
+  const auto folder = std::filesystem::temp_directory_path() / ("semfuse_fusion_errors_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(folder);
+  Mapper mapper(mapperOptions(0.02));
+
+  Status missing = mapper.load(folder / "no_such_map.vdb");
+  ASSERT_FALSE(missing.ok());
+  EXPECT_EQ(missing.errorCode(), ErrorCode::kNotFound) << missing.error();
+  EXPECT_EQ(wire::replyStatusOf(missing.errorCode()), semfuse_srv_dds__Status_Constants_NOT_FOUND);
+
+  // A map of another voxel size is refused without touching the server's map.
+  Mapper other(mapperOptions(0.04));
+  ASSERT_TRUE(other.integrateFrame(wallFrame("a", 1, true)).ok());
+  ASSERT_TRUE(other.save(folder / "coarse.vdb").ok());
+  Status incompatible = mapper.load(folder / "coarse.vdb");
+  ASSERT_FALSE(incompatible.ok());
+  EXPECT_EQ(incompatible.errorCode(), ErrorCode::kInvalidArgument) << incompatible.error();
+
+  // Bytes that are not a map.
+  { std::ofstream(folder / "garbage.vdb") << "not a map"; }
+  Status garbage = mapper.load(folder / "garbage.vdb");
+  ASSERT_FALSE(garbage.ok());
+  EXPECT_EQ(garbage.errorCode(), ErrorCode::kInvalidArgument) << garbage.error();
+  EXPECT_EQ(mapper.size().frames_integrated, 0u);
+  std::filesystem::remove_all(folder);
+}
+
+TEST(FusionErrors, ATaskTheFusionThreadDoesNotRunInTimeIsUnavailable) {
+  Mapper mapper(mapperOptions());
+  FrameQueue frames(4);
+  ServerState state;
+  FusionLoop loop(mapper, frames, state, FusionLimits{}, nullptr);  // not started: nothing runs tasks
+  Status late = loop.runOnFusionThread([] { return Status::Ok(); }, 20ms);
+  ASSERT_FALSE(late.ok());
+  EXPECT_EQ(late.errorCode(), ErrorCode::kUnavailable) << late.error();
+  EXPECT_EQ(wire::replyStatusOf(late.errorCode()), semfuse_srv_dds__Status_Constants_UNAVAILABLE);
+}
