@@ -68,7 +68,7 @@ CameraPublisher& CameraPublisher::operator=(CameraPublisher&&) noexcept = defaul
 
 Status CameraPublisher::publish(const Frame& frame) {
   auto encoded = wire::encodeFrame(frame, impl_->encoding);
-  if (!encoded) return Error{encoded.error()};
+  if (!encoded) return encoded.errorInfo();
   const FrameMsg& msg = encoded.value().msg();
   impl_->last_bytes = msg.depth._length + msg.color._length;
   return impl_->writer.write(msg);

@@ -5,16 +5,16 @@
 #include <cstdint>
 
 #include "fuzz_support.hpp"
+#include "semfuse/core/camera_check.hpp"
 #include "semfuse/dds/cdr.hpp"
 #include "semfuse/wire/ros_codec.hpp"
-#include "semfuse/wire/validation.hpp"
 
 namespace {
 
 void checkTransform(const geometry_msgs_msg_dds__Transform_& transform) {
   auto pose = semfuse::wire::poseFromTransform(transform);
   // A pose accepted from a transform must be accepted everywhere else a pose is checked.
-  if (pose) SEMFUSE_FUZZ_CHECK(semfuse::wire::validatePose(pose.value()).ok());
+  if (pose) SEMFUSE_FUZZ_CHECK(semfuse::checkRigidPose(pose.value()).ok());
 }
 
 }  // namespace

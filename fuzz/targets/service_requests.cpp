@@ -10,6 +10,7 @@
 
 #include "fuzz_support.hpp"
 #include "map_queries.hpp"
+#include "semfuse/core/camera_check.hpp"
 #include "semfuse/core/legend.hpp"
 #include "semfuse/dds/cdr.hpp"
 #include "semfuse/render/mesh.hpp"
@@ -58,9 +59,9 @@ void raycast(const semfuse_srv_dds__Raycast_Request_& request) {
                                      request.intrinsics.fy,
                                      request.intrinsics.cx,
                                      request.intrinsics.cy};
-  if (!wire::validateIntrinsics(intrinsics)) return;
+  if (!checkIntrinsics(intrinsics, wire::kMaxImageSide)) return;
   const Pose pose = wire::poseFromRowMajor(request.camera_to_world);
-  if (!wire::validatePose(pose)) return;
+  if (!checkRigidPose(pose)) return;
   if (request.layers == 0 || request.layers > render::kAllLayers) return;
   render::RaycastOptions options;
   options.layers = request.layers;

@@ -1,11 +1,13 @@
 // Fuzz target: the text files of a 7-Scenes folder. First byte even: camera-intrinsics.txt
 // (readSevenScenesIntrinsics), odd: frame-NNNNNN.pose.txt (readSevenScenesPose); the rest is the
-// file. What is accepted must be finite (the camera sends it on as it is).
+// file. What is accepted must pass the camera check (the camera sends it on as it is, and the
+// server checks it again).
 #include <cstddef>
 #include <cstdint>
 #include <string_view>
 
 #include "fuzz_support.hpp"
+#include "semfuse/core/camera_check.hpp"
 #include "semfuse/datasets/seven_scenes.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
@@ -15,12 +17,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (pose_file) {
     const auto path = semfuse::fuzz::writeScratchFile("frame-000000.pose.txt", text);
     if (auto pose = semfuse::datasets::readSevenScenesPose(path)) {
-      SEMFUSE_FUZZ_CHECK(pose.value().matrix().allFinite());
+      SEMFUSE_FUZZ_CHECK(semfuse::checkRigidPose(pose.value()).ok());
     }
   } else {
     const auto path = semfuse::fuzz::writeScratchFile("camera-intrinsics.txt", text);
     if (auto k = semfuse::datasets::readSevenScenesIntrinsics(path)) {
-      SEMFUSE_FUZZ_CHECK(k.value().fx > 0.0 && k.value().fy > 0.0);
+      SEMFUSE_FUZZ_CHECK(semfuse::checkProjection(k.value()).ok());
     }
   }
   return 0;

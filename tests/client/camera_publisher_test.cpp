@@ -121,6 +121,20 @@ TEST_F(CameraPublisherTest, RejectsAFrameThatIsNotDepthInMetres) {
   EXPECT_FALSE(camera.publish(frame).ok());
 }
 
+TEST_F(CameraPublisherTest, RefusesACameraTheServerWouldRefuseBeforeSending) {
+  CameraPublisher camera(participant_, {});
+  Frame no_focal = testFrame();
+  no_focal.intrinsics.fx = 0.0;
+  Status refused = camera.publish(no_focal);
+  EXPECT_EQ(refused.error(), "intrinsics: focal lengths must be finite and > 0, got fx=0 fy=61");
+  EXPECT_EQ(refused.errorCode(), ErrorCode::kInvalidArgument);
+  Frame skewed = testFrame();
+  skewed.camera_to_world->linear()(0, 1) = 0.3;
+  refused = camera.publish(skewed);
+  EXPECT_EQ(refused.error().rfind("pose: rotation is not orthonormal", 0), 0u) << refused.error();
+  EXPECT_EQ(refused.errorCode(), ErrorCode::kInvalidArgument);
+}
+
 TEST_F(CameraPublisherTest, WaitsForTheServersReaderNotJustAnyReader) {
   CameraPublisher camera(participant_, {});
   // A segmenter-like participant: it reads frames but is no server.

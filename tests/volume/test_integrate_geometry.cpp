@@ -179,13 +179,13 @@ TEST(IntegrateGeometry, RefusesBadInputWithAPreciseMessage) {
   expectError(integrate(volume, depth, cv::Mat(), bad_k, pose), "principal point");
   Pose nan_pose = pose;
   nan_pose.translation().x() = std::nan("");
-  expectError(integrate(volume, depth, cv::Mat(), k, nan_pose), "non-finite");
+  expectError(integrate(volume, depth, cv::Mat(), k, nan_pose), "pose: non-finite value nan at row 0, column 3");
   Pose skewed = pose;
   skewed.linear()(0, 1) = 0.3;
-  expectError(integrate(volume, depth, cv::Mat(), k, skewed), "not a proper rotation");
+  expectError(integrate(volume, depth, cv::Mat(), k, skewed), "pose: rotation is not orthonormal");
   Pose mirrored = pose;
   mirrored.linear()(0, 0) = -1;
-  expectError(integrate(volume, depth, cv::Mat(), k, mirrored), "not a proper rotation");
+  expectError(integrate(volume, depth, cv::Mat(), k, mirrored), "pose: rotation is a reflection");
   const cv::Mat labels(k.height, k.width, CV_16UC1, cv::Scalar(1));
   expectError(integrate(volume, depth, cv::Mat(), cv::Mat(200, 200, CV_16UC1), cv::Mat(), k, pose),
               "larger than the depth");

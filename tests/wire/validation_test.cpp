@@ -7,13 +7,6 @@
 namespace semfuse::wire {
 namespace {
 
-TEST(Validation, PoseReflectionIsRejected) {
-  Pose mirror = Pose::Identity();
-  mirror.linear()(2, 2) = -1.0;
-  EXPECT_EQ(validatePose(mirror).error(), "pose: rotation is a reflection (determinant -1)");
-  EXPECT_TRUE(validatePose(Pose::Identity()).ok());
-}
-
 TEST(Validation, SegmentationLargerThanFrame) {
   EXPECT_TRUE(validateSegmentationSize(320, 240, 640, 480).ok());
   EXPECT_EQ(validateSegmentationSize(641, 480, 640, 480).error(),

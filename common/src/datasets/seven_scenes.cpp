@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "image_files.hpp"
+#include "semfuse/core/camera_check.hpp"
 #include "text_matrix.hpp"
 
 namespace semfuse::datasets {
@@ -44,10 +45,8 @@ Result<PinholeIntrinsics> readSevenScenesIntrinsics(const fs::path& file) {
   intrinsics.fy = k[4];
   intrinsics.cx = k[2];
   intrinsics.cy = k[5];
-  if (intrinsics.fx <= 0.0 || intrinsics.fy <= 0.0) {
-    return makeError("camera intrinsics " + file.string() + ": focal lengths must be positive, got fx=" +
-                     std::to_string(intrinsics.fx) + " fy=" + std::to_string(intrinsics.fy));
-  }
+  // The file holds K alone: the image size comes from the images (SevenScenesReader::open).
+  if (Status s = checkProjection(intrinsics); !s) return s.errorInfo().prefixed(file.string() + ": ");
   return intrinsics;
 }
 
@@ -64,6 +63,7 @@ Result<Pose> readSevenScenesPose(const fs::path& file) {
   for (int r = 0; r < 3; ++r) {
     for (int c = 0; c < 4; ++c) pose.matrix()(r, c) = m[static_cast<std::size_t>(r * 4 + c)];
   }
+  if (Status s = checkRigidPose(pose); !s) return s.errorInfo().prefixed(file.string() + ": ");
   return pose;
 }
 
@@ -95,6 +95,7 @@ Result<SevenScenesReader> SevenScenesReader::open(const fs::path& folder, SevenS
     reader.intrinsics_.width = size.value().width;
     reader.intrinsics_.height = size.value().height;
   }
+  if (Status s = checkIntrinsics(reader.intrinsics_); !s) return s.errorInfo().prefixed("7-Scenes ");
   reader.options_ = std::move(options);
   return reader;
 }

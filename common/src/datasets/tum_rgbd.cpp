@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "image_files.hpp"
+#include "semfuse/core/camera_check.hpp"
 
 namespace semfuse::datasets {
 namespace fs = std::filesystem;
@@ -82,7 +83,7 @@ Result<std::vector<TimedPose>> readGroundTruth(const fs::path& file) {
     sample.pose = Pose::Identity();
     sample.pose.linear() = q.normalized().toRotationMatrix();
     sample.pose.translation() = Eigen::Vector3d(tx, ty, tz);
-    if (!sample.pose.matrix().allFinite()) return lineError(file, number, "non-finite pose");
+    if (Status s = checkRigidPose(sample.pose); !s) return lineError(file, number, s.error());
     poses.push_back(sample);
   }
   std::sort(poses.begin(), poses.end(), [](const TimedPose& a, const TimedPose& b) { return a.time < b.time; });
@@ -149,9 +150,7 @@ Result<TumRgbdReader> TumRgbdReader::open(const fs::path& folder, TumRgbdOptions
     }
     reader.intrinsics_ = *tumFreiburgIntrinsics(*number);
   }
-  if (!(reader.intrinsics_.fx > 0.0) || !(reader.intrinsics_.fy > 0.0)) {
-    return makeError("TUM intrinsics: focal lengths must be positive");
-  }
+  if (Status s = checkIntrinsics(reader.intrinsics_); !s) return s.errorInfo().prefixed("TUM RGB-D ");
 
   auto depth_list = readFileList(folder / "depth.txt");
   if (!depth_list) return makeError(depth_list.error());

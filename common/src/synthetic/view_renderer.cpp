@@ -1,11 +1,10 @@
 #include "semfuse/synthetic/view_renderer.hpp"
 
-#include "semfuse/core/pose_check.hpp"
-
-#include <cmath>
 #include <string>
 
 #include <opencv2/core.hpp>
+
+#include "semfuse/core/camera_check.hpp"
 
 namespace semfuse::synthetic {
 
@@ -14,19 +13,8 @@ Ray pixelRay(const PinholeIntrinsics& k, const Pose& camera_to_world, double u, 
   return Ray{camera_to_world.translation(), camera_to_world.linear() * camera_direction};
 }
 
-Status validateCamera(const PinholeIntrinsics& k, const Pose& camera_to_world) {
-  if (k.width <= 0 || k.height <= 0)
-    return makeError("image size must be positive, got " + std::to_string(k.width) + "x" + std::to_string(k.height));
-  if (!(k.fx > 0.0) || !(k.fy > 0.0) || !std::isfinite(k.fx) || !std::isfinite(k.fy))
-    return makeError("focal lengths must be positive and finite, got fx=" + std::to_string(k.fx) +
-                     " fy=" + std::to_string(k.fy));
-  if (!std::isfinite(k.cx) || !std::isfinite(k.cy)) return makeError("principal point is not finite");
-  if (Status pose = checkRigidPose(camera_to_world); !pose) return makeError("camera " + pose.error());
-  return Status::Ok();
-}
-
 Result<RenderedView> renderView(const LabeledScene& scene, const PinholeIntrinsics& k, const Pose& camera_to_world) {
-  if (Status valid = validateCamera(k, camera_to_world); !valid) return makeError(valid.error());
+  if (Status camera = checkCamera(k, camera_to_world); !camera) return camera.errorInfo().prefixed("camera ");
   RenderedView view;
   view.intrinsics = k;
   view.camera_to_world = camera_to_world;

@@ -6,6 +6,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "semfuse/core/camera_check.hpp"
 #include "semfuse/wire/image_convert.hpp"
 #include "semfuse/wire/jpeg_decode.hpp"
 #include "semfuse/wire/validation.hpp"
@@ -184,6 +185,15 @@ Result<EncodedFrame> encodeFrame(const Frame& frame, const FrameEncoding& encodi
     return makeError("encodeFrame: depth must be CV_32FC1 metres, got " + typeName(frame.depth.type()));
   }
   if (Status s = validateImageSize("depth", frame.depth.cols, frame.depth.rows); !s) return makeError(s.error());
+  // The camera the message will carry (its size is the depth's): a sender learns at once what
+  // decodeFrame would refuse.
+  PinholeIntrinsics sent = frame.intrinsics;
+  sent.width = frame.depth.cols;
+  sent.height = frame.depth.rows;
+  if (Status s = checkIntrinsics(sent, kMaxImageSide); !s) return s.errorInfo();
+  if (frame.camera_to_world) {
+    if (Status s = checkRigidPose(*frame.camera_to_world); !s) return s.errorInfo();
+  }
   // Colour encoding "" sends depth only, even for a frame that has colour.
   const bool has_color = !frame.color.empty() && !encoding.color.empty();
   if (has_color && (frame.color.type() != CV_8UC3 || frame.color.size() != frame.depth.size())) {
@@ -240,7 +250,7 @@ Result<Frame> decodeFrame(const semfuse_msg_dds__Frame_& msg) {
   // Bounds first, as unsigned values: a huge width must not turn negative in an int.
   if (Status s = validateImageSize("frame", k.width, k.height); !s) return makeError(s.error());
   frame.intrinsics = {static_cast<int>(k.width), static_cast<int>(k.height), k.fx, k.fy, k.cx, k.cy};
-  if (Status s = validateIntrinsics(frame.intrinsics); !s) return makeError(s.error());
+  if (Status s = checkIntrinsics(frame.intrinsics, kMaxImageSide); !s) return s.errorInfo();
 
   auto depth = decodeDepth(msg, k.width, k.height);
   if (!depth) return makeError(depth.error());
@@ -251,7 +261,7 @@ Result<Frame> decodeFrame(const semfuse_msg_dds__Frame_& msg) {
 
   if (msg.has_pose) {
     const Pose pose = poseFromRowMajor(msg.camera_to_world);
-    if (Status s = validatePose(pose); !s) return makeError(s.error());
+    if (Status s = checkRigidPose(pose); !s) return s.errorInfo();
     frame.camera_to_world = pose;
   }
   return frame;

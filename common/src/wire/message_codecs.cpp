@@ -6,6 +6,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "semfuse/core/camera_check.hpp"
 #include "semfuse/core/legend_io.hpp"
 #include "semfuse/wire/frame_codec.hpp"
 #include "semfuse/wire/validation.hpp"
@@ -141,7 +142,7 @@ Result<TrackedPose> decodeTrackedPose(const semfuse_msg_dds__TrackedPose_& msg) 
   pose.camera_to_world = poseFromRowMajor(msg.camera_to_world);
   // A lost frame may carry any placeholder; a used pose must be a rigid transform.
   if (pose.state != PoseState::kLost) {
-    if (Status s = validatePose(pose.camera_to_world); !s) return makeError("tracked " + s.error());
+    if (Status s = checkRigidPose(pose.camera_to_world); !s) return s.errorInfo().prefixed("tracked ");
   }
   pose.inlier_ratio = msg.inlier_ratio;
   pose.residual = msg.residual;

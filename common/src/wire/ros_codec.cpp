@@ -9,6 +9,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "semfuse/core/camera_check.hpp"
 #include "semfuse/wire/frame_codec.hpp"
 #include "semfuse/wire/image_convert.hpp"
 #include "semfuse/wire/jpeg_decode.hpp"
@@ -169,7 +170,7 @@ Result<PinholeIntrinsics> intrinsicsFromCameraInfo(const sensor_msgs_msg_dds__Ca
   if (Status s = validateImageSize("camera info", msg.width, msg.height); !s) return makeError(s.error());
   PinholeIntrinsics intrinsics{
       static_cast<int>(msg.width), static_cast<int>(msg.height), msg.k[0], msg.k[4], msg.k[2], msg.k[5]};
-  if (Status s = validateIntrinsics(intrinsics); !s) return makeError("camera info: " + s.error());
+  if (Status s = checkIntrinsics(intrinsics, kMaxImageSide); !s) return s.errorInfo().prefixed("camera info: ");
   return intrinsics;
 }
 

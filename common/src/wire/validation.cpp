@@ -1,10 +1,7 @@
 #include "semfuse/wire/validation.hpp"
 
-#include "semfuse/core/pose_check.hpp"
-
 #include <algorithm>
 #include <array>
-#include <cmath>
 #include <sstream>
 
 #include <opencv2/core.hpp>
@@ -70,21 +67,6 @@ Status validateEncoding(const std::string& what, const std::string& encoding, co
   for (const std::string& name : known) list += (list.empty() ? "" : ", ") + (name.empty() ? "\"\"" : name);
   return makeError(what + ": unknown encoding '" + encoding + "' (known: " + list + ")");
 }
-
-Status validateIntrinsics(const PinholeIntrinsics& k, uint32_t max_side) {
-  if (Status s = validateImageSize("intrinsics", k.width, k.height, max_side); !s) return s;
-  const auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
-  if (!positive(k.fx) || !positive(k.fy)) {
-    return makeError("intrinsics: focal lengths must be finite and > 0, got fx=" + number(k.fx) +
-                     " fy=" + number(k.fy));
-  }
-  if (!std::isfinite(k.cx) || !std::isfinite(k.cy)) {
-    return makeError("intrinsics: principal point must be finite, got cx=" + number(k.cx) + " cy=" + number(k.cy));
-  }
-  return Status::Ok();
-}
-
-Status validatePose(const Pose& pose, double tolerance) { return checkRigidPose(pose, tolerance); }
 
 Status validateDecodedImage(const std::string& what, const std::string& format, const cv::Mat& decoded, uint32_t width,
                             uint32_t height, int expected_type) {

@@ -5,6 +5,7 @@
 #include <functional>
 
 #include "map_queries.hpp"
+#include "semfuse/core/camera_check.hpp"
 #include "semfuse/dds/topics.hpp"
 #include "semfuse/render/mesh.hpp"
 #include "semfuse/render/ply_writer.hpp"
@@ -94,9 +95,10 @@ void Services::raycast(const semfuse_srv_dds__Raycast_Request_& request, semfuse
                   "raycast of " + std::to_string(request.intrinsics.width) + "x" +
                       std::to_string(request.intrinsics.height) + " exceeds the limit of " +
                       std::to_string(config_.max_raycast_pixels) + " pixels (--max-raycast-pixels)");
-  if (Status ok = wire::validateIntrinsics(intrinsics); !ok) return refuse(reply, kInvalid, "raycast", ok.error());
+  if (Status ok = checkIntrinsics(intrinsics, wire::kMaxImageSide); !ok)
+    return refuse(reply, kInvalid, "raycast", ok.error());
   const Pose pose = wire::poseFromRowMajor(request.camera_to_world);
-  if (Status ok = wire::validatePose(pose); !ok) return refuse(reply, kInvalid, "raycast", ok.error());
+  if (Status ok = checkRigidPose(pose); !ok) return refuse(reply, kInvalid, "raycast", ok.error());
   if (request.layers == 0 || request.layers > render::kAllLayers)
     return refuse(
         reply, kInvalid, "raycast",

@@ -1,6 +1,6 @@
 #include "semfuse/render/raycast.hpp"
 
-#include "semfuse/core/pose_check.hpp"
+#include "semfuse/core/camera_check.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -29,13 +29,7 @@ using detail::SurfaceHit;
 
 Status validate(const volume::LabeledVolume& volume, const PinholeIntrinsics& k, const Pose& camera_to_world,
                 const RaycastOptions& options) {
-  if (k.width <= 0 || k.height <= 0)
-    return makeError("raycast image size must be positive, got " + std::to_string(k.width) + "x" +
-                     std::to_string(k.height));
-  if (!(k.fx > 0.0 && k.fy > 0.0 && std::isfinite(k.fx) && std::isfinite(k.fy) && std::isfinite(k.cx) &&
-        std::isfinite(k.cy)))
-    return makeError("raycast intrinsics must have finite, positive focal lengths and a finite principal point");
-  if (Status pose = checkRigidPose(camera_to_world); !pose) return makeError("raycast " + pose.error());
+  if (Status camera = checkCamera(k, camera_to_world); !camera) return camera.errorInfo().prefixed("raycast ");
   if (!(options.min_depth >= 0.0 && options.max_depth > options.min_depth && std::isfinite(options.max_depth)))
     return makeError("raycast depth range must satisfy 0 <= min_depth < max_depth < inf");
   if ((options.layers & kAllLayers) == 0 || (options.layers & ~static_cast<uint32_t>(kAllLayers)) != 0)

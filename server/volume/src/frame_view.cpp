@@ -1,39 +1,15 @@
 #include "frame_view.hpp"
 
-#include <cmath>
 #include <string>
 
 #include <opencv2/core.hpp>
+
+#include "semfuse/core/camera_check.hpp"
 
 namespace semfuse::volume::detail {
 namespace {
 
 std::string sizeOf(const cv::Mat& m) { return std::to_string(m.cols) + "x" + std::to_string(m.rows); }
-
-Status checkIntrinsics(const PinholeIntrinsics& k) {
-  if (k.width <= 0 || k.height <= 0)
-    return makeError("intrinsics: image size must be positive, got " + std::to_string(k.width) + "x" +
-                     std::to_string(k.height));
-  if (!std::isfinite(k.fx) || !std::isfinite(k.fy) || k.fx <= 0 || k.fy <= 0)
-    return makeError("intrinsics: focal lengths must be finite and positive, got fx=" + std::to_string(k.fx) +
-                     " fy=" + std::to_string(k.fy));
-  if (!std::isfinite(k.cx) || !std::isfinite(k.cy)) return makeError("intrinsics: principal point must be finite");
-  return Status::Ok();
-}
-
-Status checkPose(const Pose& pose) {
-  const Eigen::Matrix4d& m = pose.matrix();
-  if (!m.allFinite()) return makeError("pose: camera_to_world has non-finite entries");
-  if (!m.row(3).isApprox(Eigen::RowVector4d(0, 0, 0, 1), 1e-9))
-    return makeError("pose: camera_to_world bottom row must be [0 0 0 1]");
-  const Eigen::Matrix3d r = m.topLeftCorner<3, 3>();
-  const double orthogonality = (r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
-  // Same tolerance as the wire validation: dataset poses written in float (7-Scenes) are off by ~1e-4.
-  if (orthogonality > 1e-3 || r.determinant() <= 0)
-    return makeError("pose: camera_to_world rotation is not a proper rotation (|R^T R - I| = " +
-                     std::to_string(orthogonality) + ", det = " + std::to_string(r.determinant()) + ")");
-  return Status::Ok();
-}
 
 // log2(image / labels) when image = labels * 2^k for k in 0..8, else -1: then
 // floor(i * labels / image) = i >> k for every index i.
@@ -48,8 +24,7 @@ int powerOfTwoRatio(int image, int labels) {
 Result<FrameView> makeFrameView(const VolumeParams& params, const cv::Mat& depth, const cv::Mat& color,
                                 const cv::Mat& labels, const cv::Mat& confidence, const PinholeIntrinsics& intrinsics,
                                 const Pose& camera_to_world) {
-  if (Status s = checkIntrinsics(intrinsics); !s) return makeError(s.error());
-  if (Status s = checkPose(camera_to_world); !s) return makeError(s.error());
+  if (Status s = checkCamera(intrinsics, camera_to_world); !s) return s.errorInfo();
   if (depth.empty()) return makeError("depth: image is empty");
   if (depth.type() != CV_32FC1)
     return makeError("depth: expected CV_32FC1 (metres), got type " + std::to_string(depth.type()));

@@ -56,9 +56,10 @@ class SevenScenesReader {
   std::vector<uint64_t> frame_numbers_;
 };
 
-// Parses camera-intrinsics.txt (3x3 K); width and height are left 0.
+// Parses camera-intrinsics.txt (3x3 K); width and height are left 0. The projection passes
+// semfuse/core/camera_check.hpp's checkProjection.
 Result<PinholeIntrinsics> readSevenScenesIntrinsics(const std::filesystem::path& file);
-// Parses a frame-NNNNNN.pose.txt (4x4 row-major, last row 0 0 0 1).
+// Parses a frame-NNNNNN.pose.txt (4x4 row-major, last row 0 0 0 1); the pose passes checkRigidPose.
 Result<Pose> readSevenScenesPose(const std::filesystem::path& file);
 
 }  // namespace semfuse::datasets

@@ -30,7 +30,7 @@ template <class T>
 Result<Sample<T>> deserialize(const uint8_t* bytes, std::size_t size) {
   Sample<T> sample;
   if (Status s = detail::deserialize(descriptorOf<T>(), bytes, size, sample.get()); !s) {
-    return Error{s.error()};
+    return s.errorInfo();
   }
   return sample;
 }

@@ -21,12 +21,9 @@ struct RenderedView {
 // The world-frame ray through the centre of pixel (u, v), scaled so that t = camera depth.
 Ray pixelRay(const PinholeIntrinsics& intrinsics, const Pose& camera_to_world, double u, double v);
 
-// Renders all layers, in parallel over rows. Fails on intrinsics that do not describe an image
-// (non-positive size or focal length, non-finite values) or a pose that is not rigid.
+// Renders all layers, in parallel over rows. Fails on a camera that semfuse/core/camera_check.hpp
+// refuses (the message starts with "camera ").
 Result<RenderedView> renderView(const LabeledScene& scene, const PinholeIntrinsics& intrinsics,
                                 const Pose& camera_to_world);
-
-// Checks shared by everything that takes a camera from a caller.
-Status validateCamera(const PinholeIntrinsics& intrinsics, const Pose& camera_to_world);
 
 }  // namespace semfuse::synthetic

@@ -1,7 +1,8 @@
 #pragma once
 // Checks that turn a malformed message into a precise error. Each names the field (`what`,
 // e.g. "depth") and the measured numbers, so a rejected sample in the server's status says
-// exactly what the sender got wrong.
+// exactly what the sender got wrong. Cameras (intrinsics, poses) are checked by
+// semfuse/core/camera_check.hpp, with kMaxImageSide as the limit on the wire.
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -10,7 +11,6 @@
 #include <opencv2/core/mat.hpp>
 
 #include "semfuse/core/legend.hpp"
-#include "semfuse/core/pose_check.hpp"
 #include "semfuse/core/result.hpp"
 #include "semfuse/core/types.hpp"
 
@@ -18,8 +18,6 @@ namespace semfuse::wire {
 
 // Largest accepted image side: bounds every allocation a message can cause.
 inline constexpr uint32_t kMaxImageSide = 8192;
-// The rigid-pose tolerance shared by every pose check (semfuse/core/pose_check.hpp).
-using semfuse::kRotationTolerance;
 
 // "depth: image size 0x480 is empty" / "depth: image size 9000x480 exceeds the 8192-pixel limit".
 Status validateImageSize(const std::string& what, int64_t width, int64_t height, uint32_t max_side = kMaxImageSide);
@@ -33,12 +31,6 @@ Status validateDataSize(const std::string& what, std::size_t bytes, uint32_t wid
 
 // "depth: unknown encoding 'rgb16' (known: 16UC1, 32FC1, png16)".
 Status validateEncoding(const std::string& what, const std::string& encoding, const std::vector<std::string>& known);
-
-// fx, fy finite and > 0, cx, cy finite, and the image size within bounds.
-Status validateIntrinsics(const PinholeIntrinsics& intrinsics, uint32_t max_side = kMaxImageSide);
-
-// Finite, rotation orthonormal within `tolerance` (reports the measured error) and not a reflection.
-Status validatePose(const Pose& pose, double tolerance = kRotationTolerance);
 
 // A compressed payload after cv::imdecode: empty = failed to decode; else size and type must match.
 // `format` is "PNG" or "JPEG" for the message; expected_type e.g. CV_16UC1.
