@@ -62,7 +62,7 @@ void raycast(const semfuse_srv_dds__Raycast_Request_& request) {
   if (!checkIntrinsics(intrinsics, wire::kMaxImageSide)) return;
   const Pose pose = wire::poseFromRowMajor(request.camera_to_world);
   if (!checkRigidPose(pose)) return;
-  if (request.layers == 0 || request.layers > render::kAllLayers) return;
+  if (request.layers == 0 || request.layers > kAllLayers) return;
   render::RaycastOptions options;
   options.layers = request.layers;
   if (std::isfinite(request.max_range) && request.max_range > 0.0f) options.max_depth = request.max_range;
@@ -71,7 +71,7 @@ void raycast(const semfuse_srv_dds__Raycast_Request_& request) {
   if (!prepared) return;
   auto images = render::raycast(std::move(prepared.value()));
   SEMFUSE_FUZZ_CHECK(images.ok());
-  if (request.layers & render::kDepthLayer) {
+  if (request.layers & kDepthLayer) {
     SEMFUSE_FUZZ_CHECK(images.value().depth.cols == intrinsics.width && images.value().depth.rows == intrinsics.height);
   }
 }

@@ -123,10 +123,10 @@ int runRenderBench(const RenderBenchOptions& options) {
     auto frame = reader.value().loadDepthOnly(v * frames / std::max<std::size_t>(options.views, 1));
     if (frame && frame.value().camera_to_world) poses.push_back(*frame.value().camera_to_world);
   }
-  render::RaycastOptions fast{render::kDepthLayer | render::kNormalLayer | render::kLabelLayer};
+  render::RaycastOptions fast{kDepthLayer | kNormalsLayer | kLabelsLayer};
   render::RaycastOptions baseline = fast;
   baseline.skip_empty_space = false;
-  render::RaycastOptions depth_only{render::kDepthLayer};
+  render::RaycastOptions depth_only{kDepthLayer};
   const render::RaycastKernel kernel = render::raycastKernel();
   // The portable kernels (voxel reader, bounds) beside the default where the default is AVX2.
   const bool compare_kernels = kernel == render::RaycastKernel::kAvx2;

@@ -141,7 +141,7 @@ void expectFastPathRightWhereTheyDiffer(const volume::LabeledVolume& volume, con
 }
 
 TEST_F(RaycastTest, EmptySpaceSkippingFindsTheSameSurface) {
-  RaycastOptions skip{kDepthLayer | kLabelLayer};
+  RaycastOptions skip{kDepthLayer | kLabelsLayer};
   RaycastOptions march = skip;
   march.skip_empty_space = false;
   const auto a = raycast(volume_, testing::kSmallCamera, novel_, skip).value();
@@ -174,7 +174,7 @@ TEST(RaycastRoom, SkippingFindsTheSameSurfaceAndLabelsAsThePlainMarch) {
   testing::fuse(fused, room, testing::arcAround({0.0, 0.0, 0.7}, 1.8, 0.6, 8, 2.5));
   const PinholeIntrinsics camera = testing::kSmallCamera.scaled(0.5);  // the plain march is slow
   const Pose view = synthetic::lookAt({-1.2, 0.8, 1.4}, {0.4, -0.3, 0.5});
-  RaycastOptions skip{kDepthLayer | kLabelLayer};
+  RaycastOptions skip{kDepthLayer | kLabelsLayer};
   RaycastOptions march = skip;
   march.skip_empty_space = false;
   const auto a = raycast(fused, camera, view, skip).value();
@@ -259,7 +259,7 @@ TEST_F(RaycastTest, SaveLoadRaycastIsBitIdentical) {
   auto loaded = volume::loadMap(path);
   std::filesystem::remove(path);
   ASSERT_TRUE(loaded.ok()) << loaded.error();
-  const RaycastOptions layers{kDepthLayer | kNormalLayer | kLabelLayer | kScoreLayer};
+  const RaycastOptions layers{kDepthLayer | kNormalsLayer | kLabelsLayer | kConfidenceLayer};
   const auto a = raycast(fused, testing::kSmallCamera, novel_, layers).value();
   const auto b = raycast(loaded.value().volume, testing::kSmallCamera, novel_, layers).value();
   for (const auto& [x, y] :
@@ -318,7 +318,7 @@ TEST_F(RaycastTest, RaysAlongGridAxesFindTheSameSurface) {
   Pose level = Pose::Identity();  // camera z = world +x, camera y = world -z: row 120 is horizontal
   level.linear() << 0, 0, 1, -1, 0, 0, 0, -1, 0;
   level.translation() = Eigen::Vector3d(-0.8, 0.05, 0.35);
-  RaycastOptions fast{kDepthLayer | kNormalLayer};
+  RaycastOptions fast{kDepthLayer | kNormalsLayer};
   RaycastOptions plain = fast;
   plain.skip_empty_space = false;
   for (const auto& [pose, centre_depth] : {std::pair{down, 1.0}, {level, 0.6}}) {

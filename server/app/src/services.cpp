@@ -99,7 +99,7 @@ void Services::raycast(const semfuse_srv_dds__Raycast_Request_& request, semfuse
     return refuse(reply, kInvalid, "raycast", ok.error());
   const Pose pose = wire::poseFromRowMajor(request.camera_to_world);
   if (Status ok = checkRigidPose(pose); !ok) return refuse(reply, kInvalid, "raycast", ok.error());
-  if (request.layers == 0 || request.layers > render::kAllLayers)
+  if (request.layers == 0 || request.layers > kAllLayers)
     return refuse(
         reply, kInvalid, "raycast",
         "layers must be a non-empty combination of LAYER_* bits (1..31), got " + std::to_string(request.layers));

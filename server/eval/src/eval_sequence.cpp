@@ -223,7 +223,7 @@ Result<EvalSequence> loadSevenScenes(
     if (!stats) return makeError(stats.error());
   }
   render::RaycastOptions raycast_options;
-  raycast_options.layers = render::kLabelLayer;
+  raycast_options.layers = kLabelsLayer;
   for (std::size_t k = 0; k < indices.size(); ++k) {
     auto images = render::raycast(reference, out.intrinsics, out.frames[k].camera_to_world, raycast_options);
     if (!images) return makeError("raycast of the reference labeling: " + images.error());

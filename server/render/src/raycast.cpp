@@ -75,12 +75,12 @@ bool clipToBox(const WorldBox& box, MarchRay& ray) {
 
 // The images, uninitialised: the threads that march the rows clear them (clearRow), so the
 // pages are first touched in parallel and are in cache when the hits are written.
-RaycastImages allocateImages(const PinholeIntrinsics& k, RenderLayers layers) {
+RaycastImages allocateImages(const PinholeIntrinsics& k, RaycastLayers layers) {
   RaycastImages images;
   if (layers & kDepthLayer) images.depth.create(k.height, k.width, CV_32FC1);
-  if (layers & kNormalLayer) images.normals.create(k.height, k.width, CV_32FC3);
-  if (layers & kLabelLayer) images.labels.create(k.height, k.width, CV_16UC1);
-  if (layers & kScoreLayer) images.scores.create(k.height, k.width, CV_32FC1);
+  if (layers & kNormalsLayer) images.normals.create(k.height, k.width, CV_32FC3);
+  if (layers & kLabelsLayer) images.labels.create(k.height, k.width, CV_16UC1);
+  if (layers & kConfidenceLayer) images.scores.create(k.height, k.width, CV_32FC1);
   if (layers & kColorLayer) images.color.create(k.height, k.width, CV_8UC3);
   return images;
 }
@@ -93,11 +93,11 @@ void clearRow(RaycastImages& images, int v) {
 
 // Writes the requested layers of one pixel whose ray meets the surface at t.
 // Normals from the gradient and the nearest voxel's layers are read once per hit, not per sample.
-void shadePixel(volume::VolumeSampler& sampler, const MarchRay& ray, double t, RenderLayers layers,
+void shadePixel(volume::VolumeSampler& sampler, const MarchRay& ray, double t, RaycastLayers layers,
                 RaycastImages& images, int u, int v) {
   const Eigen::Vector3f point = (ray.origin + t * ray.direction).cast<float>();
   if (layers & kDepthLayer) images.depth.at<float>(v, u) = static_cast<float>(t);
-  if (layers & kNormalLayer) {
+  if (layers & kNormalsLayer) {
     float f;
     Eigen::Vector3f gradient;
     if (sampler.tsdfAndGradient(point, f, gradient) && gradient.squaredNorm() > 0.0f) {
@@ -105,11 +105,11 @@ void shadePixel(volume::VolumeSampler& sampler, const MarchRay& ray, double t, R
       images.normals.at<cv::Vec3f>(v, u) = cv::Vec3f(n.x(), n.y(), n.z());
     }
   }
-  if (layers & (kLabelLayer | kScoreLayer)) {
+  if (layers & (kLabelsLayer | kConfidenceLayer)) {
     volume::VoxelValue voxel;
     if (sampler.nearestVoxel(point, voxel)) {
-      if (layers & kLabelLayer) images.labels.at<uint16_t>(v, u) = voxel.label;
-      if (layers & kScoreLayer) images.scores.at<float>(v, u) = voxel.score;
+      if (layers & kLabelsLayer) images.labels.at<uint16_t>(v, u) = voxel.label;
+      if (layers & kConfidenceLayer) images.scores.at<float>(v, u) = voxel.score;
     }
   }
   if (layers & kColorLayer) {
@@ -121,10 +121,10 @@ void shadePixel(volume::VolumeSampler& sampler, const MarchRay& ray, double t, R
 // The same layers from the cell the fast path found the surface in: the trilinear gradient of
 // its corners at the hit, and the label, score and colour of the corner nearest to the hit (read
 // from the leaf or upper neighbour that holds it, as the cell's corners were).
-void shadeHit(const SurfaceHit& hit, RenderLayers layers, RaycastImages& images, int u, int v) {
+void shadeHit(const SurfaceHit& hit, RaycastLayers layers, RaycastImages& images, int u, int v) {
   if (layers & kDepthLayer) images.depth.at<float>(v, u) = static_cast<float>(hit.t);
   const float fx = hit.fraction[0], fy = hit.fraction[1], fz = hit.fraction[2];
-  if (layers & kNormalLayer) {
+  if (layers & kNormalsLayer) {
     Eigen::Vector3f gradient;
     volume::trilinearWithGradient(hit.tsdf, fx, fy, fz, gradient);
     if (gradient.squaredNorm() > 0.0f) {
@@ -132,17 +132,17 @@ void shadeHit(const SurfaceHit& hit, RenderLayers layers, RaycastImages& images,
       images.normals.at<cv::Vec3f>(v, u) = cv::Vec3f(n.x(), n.y(), n.z());
     }
   }
-  if (!(layers & (kLabelLayer | kScoreLayer | kColorLayer))) return;
+  if (!(layers & (kLabelsLayer | kConfidenceLayer | kColorLayer))) return;
   // The nearest corner, leaf-local (0..8 on each axis: 8 is in the upper neighbour).
   const int x = hit.local[0] + (fx >= 0.5f ? 1 : 0), y = hit.local[1] + (fy >= 0.5f ? 1 : 0),
             z = hit.local[2] + (fz >= 0.5f ? 1 : 0);
   const int holder = detail::CrossingCells::LeafCells::upperHolding(x, y, z);
   const int offset = detail::CrossingCells::LeafCells::offsetInLeaf(x, y, z);
-  if (layers & (kLabelLayer | kScoreLayer)) {
+  if (layers & (kLabelsLayer | kConfidenceLayer)) {
     const volume::PackedVoxel* voxels = hit.leaf->upper[holder];
     const volume::PackedVoxel voxel = voxels ? voxels[offset] : volume::kUnobservedVoxel;
-    if (layers & kLabelLayer) images.labels.at<uint16_t>(v, u) = volume::unpackLabel(voxel);
-    if (layers & kScoreLayer) images.scores.at<float>(v, u) = volume::unpackScore(voxel);
+    if (layers & kLabelsLayer) images.labels.at<uint16_t>(v, u) = volume::unpackLabel(voxel);
+    if (layers & kConfidenceLayer) images.scores.at<float>(v, u) = volume::unpackScore(voxel);
   }
   if (layers & kColorLayer) {
     if (const volume::PackedColor* colors = hit.leaf->upper_colors[holder]) {

@@ -20,6 +20,7 @@
 #include "semfuse/client/call_result.hpp"
 #include "semfuse/client/server_status.hpp"
 #include "semfuse/core/legend.hpp"
+#include "semfuse/core/raycast_layers.hpp"
 #include "semfuse/core/types.hpp"
 #include "semfuse/dds/participant.hpp"
 
@@ -27,15 +28,15 @@ namespace semfuse::client {
 
 using Timeout = std::chrono::milliseconds;
 
-// Raycast layers (same bits as Raycast_Request_Constants in idl/semfuse/srv.idl).
-enum Layer : uint32_t {
-  kDepthLayer = 1,
-  kNormalsLayer = 2,
-  kLabelsLayer = 4,
-  kConfidenceLayer = 8,
-  kColorLayer = 16,
-};
-inline constexpr uint32_t kAllLayers = 31;
+// The raycast layer bits (semfuse/core/raycast_layers.hpp), as the client library names them.
+using semfuse::kAllLayers;
+using semfuse::kColorLayer;
+using semfuse::kConfidenceLayer;
+using semfuse::kDepthLayer;
+using semfuse::kLabelsLayer;
+using semfuse::kNormalsLayer;
+using semfuse::RaycastLayer;
+using semfuse::RaycastLayers;
 
 // A rendered view of the map. Layers that were not requested are empty.
 struct RaycastImages {

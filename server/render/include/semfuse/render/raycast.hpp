@@ -9,26 +9,16 @@
 
 #include <opencv2/core/mat.hpp>
 
+#include "semfuse/core/raycast_layers.hpp"
 #include "semfuse/core/result.hpp"
 #include "semfuse/core/types.hpp"
 #include "semfuse/volume/labeled_volume.hpp"
 
 namespace semfuse::render {
 
-// Which images to produce; combine with |.
-enum RenderLayer : uint32_t {
-  kDepthLayer = 1u << 0,   // CV_32FC1, metres along the camera z axis, 0 = no surface
-  kNormalLayer = 1u << 1,  // CV_32FC3, unit normal from the TSDF gradient, WORLD frame, 0 = none
-  kLabelLayer = 1u << 2,   // CV_16UC1, label of the voxel nearest the surface point, 0 = none
-  kScoreLayer = 1u << 3,   // CV_32FC1, that voxel's label score (Algorithm 1 evidence)
-  kColorLayer = 1u << 4,   // CV_8UC3 RGB, that voxel's colour (needs a volume with colour)
-  kAllLayers = (1u << 5) - 1,
-};
-using RenderLayers = uint32_t;
-
 struct RaycastOptions {
-  RenderLayers layers = kDepthLayer | kNormalLayer | kLabelLayer;
-  double min_depth = 0.1;  // metres along the camera z axis
+  RaycastLayers layers = kDepthLayer | kNormalsLayer | kLabelsLayer;  // semfuse/core/raycast_layers.hpp
+  double min_depth = 0.1;                                             // metres along the camera z axis
   double max_depth = 8.0;
   // Off: march every ray from min_depth (clipped to the allocated box) by samples, sphere-traced
   // in front of the surface, skipping nothing: the reference for benchmarks and tests (the images
@@ -36,7 +26,7 @@ struct RaycastOptions {
   bool skip_empty_space = true;
 };
 
-// Images of the requested layers; the others stay empty.
+// Images of the requested layers; the others stay empty. `scores` is the kConfidenceLayer.
 struct RaycastImages {
   cv::Mat depth;
   cv::Mat normals;
