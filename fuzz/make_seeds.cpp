@@ -22,9 +22,10 @@
 #include "semfuse/dds/sample.hpp"
 #include "semfuse/volume/map_file.hpp"
 #include "semfuse/wire/frame_codec.hpp"
-#include "semfuse/wire/image_message.hpp"
 #include "semfuse/wire/message_codecs.hpp"
 #include "semfuse/wire/ros_codec.hpp"
+#include "semfuse/wire/service_codecs.hpp"
+#include "semfuse/wire/status_codec.hpp"
 #include "tiny_map.hpp"
 
 namespace {
@@ -144,40 +145,39 @@ void segmentationSeeds() {
   write("segmentation_cdr", "none", cdr(wire::encodeSegmentation(no_confidence).value().msg()));
 }
 
-// A layer of a raycast reply, as the server fills it (server/app/src/services.cpp).
-// Replies the client decodes: a 4x3 raycast (depth, normals, labels), a status, mesh chunks.
+// Replies the client decodes, as the server encodes them (common/wire/service_codecs.hpp):
+// a 4x3 raycast (depth, normals, labels), a status, mesh chunks.
 void clientReplySeeds() {
+  ServiceReply<RaycastImages> view;
+  view.value.depth = cv::Mat(3, 4, CV_32FC1, cv::Scalar(1.5f));
+  view.value.normals = cv::Mat(3, 4, CV_32FC3, cv::Scalar(0.0f, 0.0f, -1.0f));
+  view.value.labels = cv::Mat(3, 4, CV_16UC1, cv::Scalar(7));
   dds::Sample<semfuse_srv_dds__Raycast_Response_> raycast;
-  const cv::Mat depth(3, 4, CV_32FC1, cv::Scalar(1.5f)), normals(3, 4, CV_32FC3, cv::Scalar(0.0f, 0.0f, -1.0f)),
-      labels(3, 4, CV_16UC1, cv::Scalar(7));
-  wire::fillImageMessage(raycast->depth, depth, "32FC1");
-  wire::fillImageMessage(raycast->normals, normals, "32FC3");
-  wire::fillImageMessage(raycast->labels, labels, "16UC1");
+  wire::RaycastCodec::encodeReply(view, *raycast);
   write("client_messages_cdr", "raycast-reply", withSelector(2, cdr(*raycast)));
 
-  dds::Sample<semfuse_msg_dds__ServerStatus_> status;
-  dds::setString(status->server_id, "server");
-  dds::setString(status->version, "0.1");
-  status->frames_received = 10;
-  status->frames_integrated = 9;
-  dds::resizeSequence(status->dropped, 1);
-  dds::setString(status->dropped._buffer[0].reason, "queue_full");
-  dds::setString(status->dropped._buffer[0].camera_id, "cam");
-  status->dropped._buffer[0].count = 1;
-  dds::resizeSequence(status->cameras, 1);
-  dds::setString(status->cameras._buffer[0].camera_id, "cam");
-  dds::resizeSequence(status->last_errors, 1);
-  dds::setString(status->last_errors._buffer[0].source, "frames");
-  dds::setString(status->last_errors._buffer[0].message, "depth size 4x3 does not match 8x6");
-  write("client_messages_cdr", "status", withSelector(3, cdr(*status)));
+  ServerStatus status;
+  status.server_id = "server";
+  status.version = "0.1";
+  status.frames_received = 10;
+  status.frames_integrated = 9;
+  status.dropped = {{"queue_full", "cam", 1}};
+  status.cameras.resize(1);
+  status.cameras[0].camera_id = "cam";
+  status.last_errors = {{0.0, "frames", "depth size 4x3 does not match 8x6"}};
+  dds::Sample<semfuse_msg_dds__ServerStatus_> status_message;
+  wire::encodeServerStatus(status, {}, *status_message);
+  write("client_messages_cdr", "status", withSelector(3, cdr(*status_message)));
 
   const std::string ply = "ply\nformat binary_little_endian 1.0\nelement vertex 0\nend_header\n";
   for (uint32_t chunks : {1u, 2u}) {
+    ServiceReply<MeshChunk> chunk;
+    chunk.value.mesh_id = 42;
+    chunk.value.chunk_count = chunks;
+    chunk.value.total_bytes = chunks * ply.size();
+    chunk.value.ply.assign(ply.begin(), ply.end());
     dds::Sample<semfuse_srv_dds__Mesh_Response_> mesh;
-    mesh->mesh_id = 42;
-    mesh->chunk_count = chunks;
-    mesh->total_bytes = chunks * ply.size();
-    dds::setSequence(mesh->ply, reinterpret_cast<const uint8_t*>(ply.data()), ply.size());
+    wire::MeshCodec::encodeReply(chunk, *mesh);
     write("client_messages_cdr", "mesh-reply-of-" + std::to_string(chunks), withSelector(4, cdr(*mesh)));
   }
 }

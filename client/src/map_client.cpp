@@ -1,51 +1,50 @@
 #include "semfuse/client/map_client.hpp"
 
 #include <mutex>
+#include <string>
+#include <type_traits>
+#include <utility>
 
-#include "reply_decoding.hpp"
+#include "mesh_assembly.hpp"
 #include "semfuse/dds/qos.hpp"
 #include "semfuse/dds/reader.hpp"
 #include "semfuse/dds/rpc.hpp"
 #include "semfuse/dds/topic.hpp"
 #include "semfuse/dds/topics.hpp"
 #include "semfuse/dds/waitset.hpp"
-#include "semfuse/wire/frame_codec.hpp"
 #include "semfuse/wire/message_codecs.hpp"
 #include "semfuse/wire/reply_status.hpp"
+#include "semfuse/wire/service_codecs.hpp"
+#include "semfuse/wire/status_codec.hpp"
 
 namespace semfuse::client {
 namespace {
 
-using RaycastRpc = dds::RpcClient<semfuse_srv_dds__Raycast_Request_, semfuse_srv_dds__Raycast_Response_>;
-using LabelsAtRpc = dds::RpcClient<semfuse_srv_dds__LabelsAt_Request_, semfuse_srv_dds__LabelsAt_Response_>;
-using RegionRpc = dds::RpcClient<semfuse_srv_dds__Region_Request_, semfuse_srv_dds__Region_Response_>;
-using ObjectsRpc = dds::RpcClient<semfuse_srv_dds__Objects_Request_, semfuse_srv_dds__Objects_Response_>;
-using MeshRpc = dds::RpcClient<semfuse_srv_dds__Mesh_Request_, semfuse_srv_dds__Mesh_Response_>;
-using AdminRpc = dds::RpcClient<semfuse_srv_dds__Admin_Request_, semfuse_srv_dds__Admin_Response_>;
-
-geometry_msgs_msg_dds__Point_ toPoint(const Eigen::Vector3d& p) { return {p.x(), p.y(), p.z()}; }
-
-// A reply with a non-OK status: the server's message, with the code of its status.
-template <class Reply>
-Error serverError(const Reply& reply) {
-  return makeError(wire::errorCodeOfReplyStatus(reply.status),
-                   "server error " + std::to_string(reply.status) + ": " + std::string(dds::replyMessage(reply)));
-}
-Eigen::Vector3d fromPoint(const geometry_msgs_msg_dds__Point_& p) { return {p.x, p.y, p.z}; }
+template <class Codec>
+using Rpc = dds::RpcClient<typename Codec::WireRequest, typename Codec::WireReply>;
 
 // One request/reply round trip. RpcClient reports only transport problems as errors (no server
 // matched, no reply in time), which are timeouts from the caller's point of view; a reply with a
-// non-OK status is the server's error.
-template <class Reply, class Rpc, class Request, class Convert>
-auto call(Rpc& rpc, dds::Sample<Request>& request, Timeout timeout, Convert&& convert)
-    -> CallResult<decltype(convert(std::declval<const Reply&>()))> {
-  auto reply = rpc.call(*request, timeout);
-  if (!reply) return {Failure::kTimeout, reply.error()};
-  const Reply& r = *reply.value();
-  if (!dds::replyOk(r)) {
-    return {Failure::kServer, serverError(r)};
+// non-OK status is the server's error, a reply that does not decode the client's.
+template <class Codec>
+CallResult<typename Codec::Reply> call(Rpc<Codec>& rpc, const typename Codec::Request& request, Timeout timeout) {
+  dds::Sample<typename Codec::WireRequest> wire_request;
+  Codec::encodeRequest(request, *wire_request);
+  auto wire_reply = rpc.call(*wire_request, timeout);
+  if (!wire_reply) return {Failure::kTimeout, wire_reply.error()};
+  // The raycast's images take over the reply's pixel buffers instead of copying them.
+  auto reply = [&] {
+    if constexpr (std::is_same_v<Codec, wire::RaycastCodec>) return Codec::takeReply(*wire_reply.value());
+    else return Codec::decodeReply(*wire_reply.value());
+  }();
+  if (!reply) return {Failure::kClient, std::string(Codec::kName) + " reply: " + reply.error()};
+  if (!reply.value().ok()) {
+    // The server's message, with the error code of its reply status.
+    const auto status = static_cast<int32_t>(reply.value().code);
+    return {Failure::kServer, makeError(wire::errorCodeOfReplyStatus(status),
+                                        "server error " + std::to_string(status) + ": " + reply.value().message)};
   }
-  return convert(r);
+  return std::move(reply.value().value);
 }
 
 }  // namespace
@@ -72,27 +71,21 @@ struct MapClient::Impl {
 
   void poll() {
     std::lock_guard lock(mutex);
-    while (auto s = status_reader.take()) status = detail::decodeStatus(**s);
+    while (auto s = status_reader.take()) {
+      if (auto decoded = wire::decodeServerStatus(**s)) status = std::move(decoded).value();
+    }
     while (auto l = legend_reader.take()) {
       // A legend the server should never have sent is kept out rather than half-used.
       if (auto decoded = wire::decodeLegend(**l)) legend = std::move(decoded).value();
     }
   }
 
-  CallResult<ServerStatus> adminCall(uint8_t command, const std::string& path, Timeout timeout) {
-    dds::Sample<semfuse_srv_dds__Admin_Request_> request;
-    request->command = command;
-    dds::setString(request->path, path);
-    return call<semfuse_srv_dds__Admin_Response_>(admin, request, timeout,
-                                                  [](const auto& r) { return detail::decodeStatus(r.server_status); });
-  }
-
-  RaycastRpc raycast;
-  LabelsAtRpc labels_at;
-  RegionRpc region;
-  ObjectsRpc objects;
-  MeshRpc mesh;
-  AdminRpc admin;
+  Rpc<wire::RaycastCodec> raycast;
+  Rpc<wire::LabelsAtCodec> labels_at;
+  Rpc<wire::RegionCodec> region;
+  Rpc<wire::ObjectsCodec> objects;
+  Rpc<wire::MeshCodec> mesh;
+  Rpc<wire::AdminCodec> admin;
   dds::Topic<semfuse_msg_dds__ServerStatus_> status_topic;
   dds::Topic<semfuse_msg_dds__LabelLegend_> legend_topic;
   dds::Reader<semfuse_msg_dds__ServerStatus_> status_reader;
@@ -110,103 +103,28 @@ MapClient::MapClient(const dds::Participant& participant) : impl_(std::make_uniq
 MapClient::~MapClient() = default;
 
 CallResult<RaycastImages> MapClient::raycast(const Pose& camera_to_world, const PinholeIntrinsics& intrinsics,
-                                             uint32_t layers, Timeout timeout, float max_range) {
-  dds::Sample<semfuse_srv_dds__Raycast_Request_> request;
-  wire::poseToRowMajor(camera_to_world, request->camera_to_world);
-  request->intrinsics = {static_cast<uint32_t>(intrinsics.width),
-                         static_cast<uint32_t>(intrinsics.height),
-                         intrinsics.fx,
-                         intrinsics.fy,
-                         intrinsics.cx,
-                         intrinsics.cy};
-  request->layers = layers;
-  request->max_range = max_range;
-  auto reply = impl_->raycast.call(*request, timeout);
-  if (!reply) return {Failure::kTimeout, reply.error()};
-  auto& r = *reply.value();
-  if (!dds::replyOk(r)) {
-    return {Failure::kServer, serverError(r)};
-  }
-  RaycastImages images;
-  const std::pair<sensor_msgs_msg_dds__Image_*, cv::Mat*> layers_out[] = {{&r.depth, &images.depth},
-                                                                          {&r.normals, &images.normals},
-                                                                          {&r.labels, &images.labels},
-                                                                          {&r.confidence, &images.confidence},
-                                                                          {&r.color, &images.color}};
-  for (const auto& [image, mat] : layers_out) {
-    auto decoded = detail::takeImage(*image);
-    if (!decoded) return {Failure::kClient, "raycast reply: " + decoded.error()};
-    *mat = std::move(decoded).value();
-  }
-  return images;
+                                             RaycastLayers layers, Timeout timeout, float max_range) {
+  return call<wire::RaycastCodec>(impl_->raycast, {camera_to_world, intrinsics, layers, max_range}, timeout);
 }
 
 CallResult<std::vector<VoxelSample>> MapClient::labelsAt(const std::vector<Eigen::Vector3d>& points, Timeout timeout) {
-  dds::Sample<semfuse_srv_dds__LabelsAt_Request_> request;
-  std::vector<geometry_msgs_msg_dds__Point_> wire_points;
-  for (const auto& p : points) wire_points.push_back(toPoint(p));
-  dds::setSequence(request->points, wire_points.data(), wire_points.size());
-  return call<semfuse_srv_dds__LabelsAt_Response_>(impl_->labels_at, request, timeout, [](const auto& r) {
-    std::vector<VoxelSample> samples;
-    for (uint32_t i = 0; i < r.samples._length; ++i) {
-      const auto& s = r.samples._buffer[i];
-      samples.push_back({s.observed, s.label, s.confidence, s.tsdf, s.weight});
-    }
-    return samples;
-  });
+  return call<wire::LabelsAtCodec>(impl_->labels_at, {points}, timeout);
 }
 
 CallResult<RegionSummary> MapClient::region(const Box& box, Timeout timeout) {
-  dds::Sample<semfuse_srv_dds__Region_Request_> request;
-  request->min = toPoint(box.min);
-  request->max = toPoint(box.max);
-  return call<semfuse_srv_dds__Region_Response_>(impl_->region, request, timeout, [](const auto& r) {
-    RegionSummary summary;
-    for (uint32_t i = 0; i < r.histogram._length; ++i) {
-      const auto& h = r.histogram._buffer[i];
-      summary.histogram.push_back({h.label, h.surface_voxels, h.area_m2});
-    }
-    summary.observed_voxels = r.observed_voxels;
-    summary.occupied_voxels = r.occupied_voxels;
-    summary.free_voxels = r.free_voxels;
-    summary.occupancy = r.occupancy;
-    return summary;
-  });
+  return call<wire::RegionCodec>(impl_->region, box, timeout);
 }
 
 CallResult<std::vector<ObjectInstance>> MapClient::objects(LabelId label, uint32_t min_voxels, Timeout timeout) {
-  dds::Sample<semfuse_srv_dds__Objects_Request_> request;
-  request->label = label;
-  request->min_voxels = min_voxels;
-  return call<semfuse_srv_dds__Objects_Response_>(impl_->objects, request, timeout, [](const auto& r) {
-    std::vector<ObjectInstance> objects;
-    for (uint32_t i = 0; i < r.objects._length; ++i) {
-      const auto& o = r.objects._buffer[i];
-      objects.push_back({o.id, o.label, fromPoint(o.bbox_min), fromPoint(o.bbox_max), fromPoint(o.centroid),
-                         o.voxel_count, o.mean_confidence});
-    }
-    return objects;
-  });
+  return call<wire::ObjectsCodec>(impl_->objects, {label, min_voxels}, timeout);
 }
 
 CallResult<MeshData> MapClient::mesh(const std::optional<Box>& box, Timeout timeout) {
   detail::MeshAssembly assembly;
   for (uint32_t chunk = 0; chunk < assembly.chunkCount(); ++chunk) {
-    dds::Sample<semfuse_srv_dds__Mesh_Request_> request;
-    request->use_box = box.has_value();
-    if (box) {
-      request->box_min = toPoint(box->min);
-      request->box_max = toPoint(box->max);
-    }
-    request->mesh_id = assembly.meshId();
-    request->chunk_index = chunk;
-    auto reply = impl_->mesh.call(*request, timeout);
-    if (!reply) return {Failure::kTimeout, reply.error()};
-    const auto& r = *reply.value();
-    if (!dds::replyOk(r)) {
-      return {Failure::kServer, serverError(r)};
-    }
-    if (Status added = assembly.add(r, chunk); !added) return {Failure::kClient, added.error()};
+    auto reply = call<wire::MeshCodec>(impl_->mesh, {box, assembly.meshId(), chunk}, timeout);
+    if (!reply) return {reply.failure(), makeError(reply.errorCode(), reply.error())};
+    if (Status added = assembly.add(std::move(reply).value(), chunk); !added) return {Failure::kClient, added.error()};
   }
   auto mesh = std::move(assembly).finish();
   if (!mesh) return {Failure::kClient, mesh.error()};
@@ -214,16 +132,16 @@ CallResult<MeshData> MapClient::mesh(const std::optional<Box>& box, Timeout time
 }
 
 CallResult<ServerStatus> MapClient::stats(Timeout timeout) {
-  return impl_->adminCall(semfuse_srv_dds__Admin_Request_Constants_STATS, "", timeout);
+  return call<wire::AdminCodec>(impl_->admin, {AdminCommand::kStats, ""}, timeout);
 }
 CallResult<ServerStatus> MapClient::save(const std::string& path, Timeout timeout) {
-  return impl_->adminCall(semfuse_srv_dds__Admin_Request_Constants_SAVE, path, timeout);
+  return call<wire::AdminCodec>(impl_->admin, {AdminCommand::kSave, path}, timeout);
 }
 CallResult<ServerStatus> MapClient::load(const std::string& path, Timeout timeout) {
-  return impl_->adminCall(semfuse_srv_dds__Admin_Request_Constants_LOAD, path, timeout);
+  return call<wire::AdminCodec>(impl_->admin, {AdminCommand::kLoad, path}, timeout);
 }
 CallResult<ServerStatus> MapClient::reset(Timeout timeout) {
-  return impl_->adminCall(semfuse_srv_dds__Admin_Request_Constants_RESET, "", timeout);
+  return call<wire::AdminCodec>(impl_->admin, {AdminCommand::kReset, ""}, timeout);
 }
 
 std::optional<ServerStatus> MapClient::latestStatus() {

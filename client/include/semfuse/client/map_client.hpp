@@ -21,6 +21,7 @@
 #include "semfuse/client/server_status.hpp"
 #include "semfuse/core/legend.hpp"
 #include "semfuse/core/raycast_layers.hpp"
+#include "semfuse/core/service_types.hpp"
 #include "semfuse/core/types.hpp"
 #include "semfuse/dds/participant.hpp"
 
@@ -28,62 +29,24 @@ namespace semfuse::client {
 
 using Timeout = std::chrono::milliseconds;
 
-// The raycast layer bits (semfuse/core/raycast_layers.hpp), as the client library names them.
+// The services' requests and answers (semfuse/core/service_types.hpp) and the raycast layer
+// bits (semfuse/core/raycast_layers.hpp), as the client library names them.
+using semfuse::Box;
 using semfuse::kAllLayers;
 using semfuse::kColorLayer;
 using semfuse::kConfidenceLayer;
 using semfuse::kDepthLayer;
 using semfuse::kLabelsLayer;
 using semfuse::kNormalsLayer;
+using semfuse::LabelArea;
+using semfuse::ObjectInstance;
+using semfuse::RaycastImages;
 using semfuse::RaycastLayer;
 using semfuse::RaycastLayers;
+using semfuse::RegionSummary;
+using semfuse::VoxelSample;
 
-// A rendered view of the map. Layers that were not requested are empty.
-struct RaycastImages {
-  cv::Mat depth;       // CV_32FC1 metres, 0 = no surface
-  cv::Mat normals;     // CV_32FC3 world-frame unit normals
-  cv::Mat labels;      // CV_16UC1, 0 = unlabeled
-  cv::Mat confidence;  // CV_32FC1
-  cv::Mat color;       // CV_8UC3 RGB
-};
-
-struct VoxelSample {
-  bool observed = false;
-  LabelId label = kUnlabeled;
-  float confidence = 0.0F;
-  float tsdf = 0.0F;
-  float weight = 0.0F;
-};
-
-struct LabelArea {
-  LabelId label = kUnlabeled;
-  uint64_t surface_voxels = 0;
-  double area_m2 = 0.0;
-};
-
-struct RegionSummary {
-  std::vector<LabelArea> histogram;
-  uint64_t observed_voxels = 0;
-  uint64_t occupied_voxels = 0;
-  uint64_t free_voxels = 0;
-  double occupancy = 0.0;
-};
-
-struct ObjectInstance {
-  uint32_t id = 0;
-  LabelId label = kUnlabeled;
-  Eigen::Vector3d bbox_min = Eigen::Vector3d::Zero();
-  Eigen::Vector3d bbox_max = Eigen::Vector3d::Zero();
-  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-  uint64_t voxel_count = 0;
-  float mean_confidence = 0.0F;
-};
-
-struct Box {
-  Eigen::Vector3d min;
-  Eigen::Vector3d max;
-};
-
+// A whole mesh, put together from the chunks of the mesh service.
 struct MeshData {
   std::vector<uint8_t> ply;  // a complete PLY file
   uint32_t vertex_count = 0;
@@ -97,8 +60,8 @@ class MapClient {
   MapClient(const MapClient&) = delete;
   MapClient& operator=(const MapClient&) = delete;
 
-  CallResult<RaycastImages> raycast(const Pose& camera_to_world, const PinholeIntrinsics& intrinsics, uint32_t layers,
-                                    Timeout timeout, float max_range = 0.0F);
+  CallResult<RaycastImages> raycast(const Pose& camera_to_world, const PinholeIntrinsics& intrinsics,
+                                    RaycastLayers layers, Timeout timeout, float max_range = 0.0F);
   CallResult<std::vector<VoxelSample>> labelsAt(const std::vector<Eigen::Vector3d>& points, Timeout timeout);
   CallResult<RegionSummary> region(const Box& box, Timeout timeout);
   // label 0 = objects of every label.
