@@ -262,33 +262,26 @@ void rosSeeds(const Frame& frame) {
   write("ros_geometry_cdr", "tf-message", withSelector(2, cdr(tf.msg())));
 }
 
+// Requests as the client library encodes them.
+template <class Codec>
+Bytes requestCdr(const typename Codec::Request& request) {
+  dds::Sample<typename Codec::WireRequest> wire_request;
+  Codec::encodeRequest(request, *wire_request);
+  return cdr(*wire_request);
+}
+
 void serviceSeeds() {
-  semfuse_srv_dds__Raycast_Request_ raycast{};
-  wire::poseToRowMajor(Pose::Identity(), raycast.camera_to_world);
-  raycast.intrinsics = {32, 24, 20.0, 20.0, 15.5, 11.5};
-  raycast.layers = 31;
-  raycast.max_range = 4.0f;
-  write("service_requests", "raycast", withSelector(0, cdr(raycast)));
-  std::vector<geometry_msgs_msg_dds__Point_> points{{0, 0, 1.0}, {-0.3, 0.1, 1.0}, {0.3, 0, 1.5}, {0, 0, 0.5}};
-  semfuse_srv_dds__LabelsAt_Request_ labels_at{};
-  labels_at.points = {static_cast<uint32_t>(points.size()), static_cast<uint32_t>(points.size()), points.data(), false};
-  write("service_requests", "labels-at", withSelector(1, cdr(labels_at)));
-  semfuse_srv_dds__Region_Request_ region{};
-  region.min = {-1, -1, 0.5};
-  region.max = {1, 1, 2};
-  write("service_requests", "region", withSelector(2, cdr(region)));
-  semfuse_srv_dds__Objects_Request_ objects{};
-  objects.label = 0;
-  objects.min_voxels = 1;
-  write("service_requests", "objects-all", withSelector(3, cdr(objects)));
-  objects.label = 5;
-  write("service_requests", "objects-5", withSelector(3, cdr(objects)));
-  semfuse_srv_dds__Mesh_Request_ mesh{};
-  write("service_requests", "mesh", withSelector(4, cdr(mesh)));
-  mesh.use_box = true;
-  mesh.box_min = {-0.5, -0.5, 0.5};
-  mesh.box_max = {0.5, 0.5, 1.2};
-  write("service_requests", "mesh-box", withSelector(4, cdr(mesh)));
+  const RaycastRequest raycast{Pose::Identity(), {32, 24, 20.0, 20.0, 15.5, 11.5}, kAllLayers, 4.0f};
+  write("service_requests", "raycast", withSelector(0, requestCdr<wire::RaycastCodec>(raycast)));
+  const LabelsAtRequest labels_at{{{0, 0, 1.0}, {-0.3, 0.1, 1.0}, {0.3, 0, 1.5}, {0, 0, 0.5}}};
+  write("service_requests", "labels-at", withSelector(1, requestCdr<wire::LabelsAtCodec>(labels_at)));
+  const Box region{{-1, -1, 0.5}, {1, 1, 2}};
+  write("service_requests", "region", withSelector(2, requestCdr<wire::RegionCodec>(region)));
+  write("service_requests", "objects-all", withSelector(3, requestCdr<wire::ObjectsCodec>({0, 1})));
+  write("service_requests", "objects-5", withSelector(3, requestCdr<wire::ObjectsCodec>({5, 1})));
+  write("service_requests", "mesh", withSelector(4, requestCdr<wire::MeshCodec>({})));
+  const Box box{{-0.5, -0.5, 0.5}, {0.5, 0.5, 1.2}};
+  write("service_requests", "mesh-box", withSelector(4, requestCdr<wire::MeshCodec>({box, 0, 0})));
 }
 
 void mapSeeds() {

@@ -12,6 +12,8 @@
 #include "semfuse/dds/sample.hpp"
 #include "semfuse/dds/topics.hpp"
 #include "semfuse/wire/message_codecs.hpp"
+#include "semfuse/wire/ros_codec.hpp"
+#include "semfuse/wire/status_codec.hpp"
 
 namespace semfuse::server {
 namespace {
@@ -203,7 +205,7 @@ void FusionServer::publishPose(const Frame& frame, const FrameOutcome& outcome) 
 
 void FusionServer::publishStatus() {
   dds::Sample<semfuse_msg_dds__ServerStatus_> sample;
-  fillStatusMessage(snapshot(), *sample);
+  wire::encodeServerStatus(snapshot(), wire::stampNow(), *sample);
   if (Status ok = status_writer_.write(*sample); !ok) spdlog::debug("status: {}", ok.error());
 }
 

@@ -11,6 +11,7 @@
 #include "fusion_loop.hpp"
 #include "ingest.hpp"
 #include "mapper.hpp"
+#include "process_memory.hpp"
 #include "ros_ingest.hpp"
 #include "semfuse/dds/participant.hpp"
 #include "semfuse/dds/topic.hpp"
@@ -18,7 +19,6 @@
 #include "server_config.hpp"
 #include "server_state.hpp"
 #include "services.hpp"
-#include "status_message.hpp"
 
 namespace semfuse::server {
 

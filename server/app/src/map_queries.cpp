@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <unordered_map>
 
 #include <openvdb/math/BBox.h>
@@ -22,19 +23,19 @@ struct CoordHash {
 
 }  // namespace
 
-std::vector<PointSample> sampleAt(const volume::LabeledVolume& volume, const std::vector<Eigen::Vector3d>& points) {
-  std::vector<PointSample> samples;
+std::vector<VoxelSample> sampleAt(const volume::LabeledVolume& volume, const std::vector<Eigen::Vector3d>& points) {
+  std::vector<VoxelSample> samples;
   samples.reserve(points.size());
   auto accessor = volume.geometryGrid().getConstAccessor();
   for (const auto& point : points) {
-    PointSample sample;
+    VoxelSample sample;
     if (point.allFinite()) {
       const openvdb::Coord ijk = volume.worldToIndex(point);
       const volume::VoxelValue v = volume::unpackVoxel(accessor.getValue(ijk));
       sample.observed = v.weight > 0.0f;
       if (sample.observed) {
         sample.label = v.label;
-        sample.score = v.score;
+        sample.confidence = v.score;
         sample.tsdf = v.tsdf;
         sample.weight = v.weight;
       }
@@ -47,6 +48,7 @@ std::vector<PointSample> sampleAt(const volume::LabeledVolume& volume, const std
 RegionSummary summarizeRegion(const volume::LabeledVolume& volume, const Eigen::Vector3d& min,
                               const Eigen::Vector3d& max) {
   RegionSummary summary;
+  std::map<LabelId, LabelArea> labels;  // in label order
   const double voxel = volume.voxelSize();
   const openvdb::Coord lo = volume.worldToIndex(min);
   const openvdb::Coord hi = volume.worldToIndex(max);
@@ -59,11 +61,12 @@ RegionSummary summarizeRegion(const volume::LabeledVolume& volume, const Eigen::
     if (v.tsdf < 0.0f) ++summary.occupied_voxels;
     else ++summary.free_voxels;
     if (isSurface(v, voxel)) {
-      auto& area = summary.labels[v.label];
+      LabelArea& area = labels[v.label];
       ++area.surface_voxels;
       area.area_m2 += voxel * voxel;
     }
   }
+  for (const auto& [label, area] : labels) summary.histogram.push_back({label, area.surface_voxels, area.area_m2});
   if (summary.observed_voxels > 0)
     summary.occupancy = static_cast<double>(summary.occupied_voxels) / static_cast<double>(summary.observed_voxels);
   return summary;
@@ -114,7 +117,7 @@ std::vector<ObjectInstance> findObjects(const volume::LabeledVolume& volume, con
     object.centroid = sum / static_cast<double>(object.voxel_count);
     object.bbox_min = volume.indexToWorld(bounds.min()) - Eigen::Vector3d::Constant(voxel / 2);
     object.bbox_max = volume.indexToWorld(bounds.max()) + Eigen::Vector3d::Constant(voxel / 2);
-    object.mean_score = static_cast<float>(score_sum / static_cast<double>(object.voxel_count));
+    object.mean_confidence = static_cast<float>(score_sum / static_cast<double>(object.voxel_count));
     objects.push_back(object);
   }
   std::sort(objects.begin(), objects.end(),

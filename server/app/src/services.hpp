@@ -1,24 +1,27 @@
 #pragma once
-// The query services of the wire contract (raycast, labels_at, region, objects, mesh, admin),
-// each on its own RpcServer thread. They read the map under the Mapper's shared lock; admin
-// load/reset run on the fusion thread, the only writer. Every request gets a reply: a request
-// the server cannot serve gets an error status and a message saying why.
-#include <chrono>
-#include <cstdint>
+// The DDS adapter of the query services (raycast, labels_at, region, objects, mesh, admin): one
+// dds::RpcServer thread per service that decodes each request with its codec
+// (common/wire/service_codecs.hpp), calls the service's handler (service_handlers.hpp: no DDS),
+// encodes the reply and writes it. Every request gets a reply: one that does not decode gets
+// INVALID_ARGUMENT and the decoder's message. Refused queries are counted in the server's
+// status (invalid_query), with their messages; a failed admin command is recorded as an error of
+// the admin service. Queries read under the Mapper's shared lock; admin load/reset run on the
+// fusion thread, the only writer.
 #include <functional>
-#include <map>
 #include <memory>
-#include <mutex>
 #include <string>
 
 #include "fusion_loop.hpp"
+#include "held_meshes.hpp"
 #include "mapper.hpp"
+#include "mapper_access.hpp"
 #include "semfuse/dds/participant.hpp"
 #include "semfuse/dds/rpc.hpp"
+#include "semfuse/dds/topics.hpp"
+#include "semfuse/wire/service_codecs.hpp"
 #include "server_config.hpp"
 #include "server_state.hpp"
-#include "srv.h"
-#include "status_message.hpp"
+#include "service_handlers.hpp"
 
 namespace semfuse::server {
 
@@ -32,37 +35,27 @@ class Services {
   ~Services();
 
  private:
-  void raycast(const semfuse_srv_dds__Raycast_Request_& request, semfuse_srv_dds__Raycast_Response_& reply);
-  void labelsAt(const semfuse_srv_dds__LabelsAt_Request_& request, semfuse_srv_dds__LabelsAt_Response_& reply);
-  void region(const semfuse_srv_dds__Region_Request_& request, semfuse_srv_dds__Region_Response_& reply);
-  void objects(const semfuse_srv_dds__Objects_Request_& request, semfuse_srv_dds__Objects_Response_& reply);
-  void mesh(const semfuse_srv_dds__Mesh_Request_& request, semfuse_srv_dds__Mesh_Response_& reply);
-  void admin(const semfuse_srv_dds__Admin_Request_& request, semfuse_srv_dds__Admin_Response_& reply);
+  template <class Codec>
+  using Server = std::unique_ptr<dds::RpcServer<typename Codec::WireRequest, typename Codec::WireReply>>;
 
-  // Sets an error status and records it in the log and the status.
-  template <class Reply>
-  void refuse(Reply& reply, int32_t code, const std::string& service, const std::string& message);
+  // Serves one service: decode, `handle`, encode. A request that does not decode is counted in
+  // the status as an invalid query, and so are the handler's refusals with count_refusals.
+  template <class Codec, class Handle>
+  Server<Codec> serve(const dds::Participant& participant, const dds::topics::ServiceTopics& topics, Handle handle,
+                      bool count_refusals = true);
 
-  const ServerConfig& config_;
-  Mapper& mapper_;
-  FusionLoop& fusion_;
   ServerState& state_;
-  SnapshotFn snapshot_;
-  SaveFn save_;
-
-  // Meshes being fetched in chunks, newest last; a few are kept so concurrent clients can page.
-  std::mutex meshes_mutex_;
-  std::map<uint64_t, std::shared_ptr<const std::string>> meshes_;
-  uint64_t next_mesh_id_ = 1;
-
-  template <class Req, class Rep>
-  using Server = std::unique_ptr<dds::RpcServer<Req, Rep>>;
-  Server<semfuse_srv_dds__Raycast_Request_, semfuse_srv_dds__Raycast_Response_> raycast_server_;
-  Server<semfuse_srv_dds__LabelsAt_Request_, semfuse_srv_dds__LabelsAt_Response_> labels_at_server_;
-  Server<semfuse_srv_dds__Region_Request_, semfuse_srv_dds__Region_Response_> region_server_;
-  Server<semfuse_srv_dds__Objects_Request_, semfuse_srv_dds__Objects_Response_> objects_server_;
-  Server<semfuse_srv_dds__Mesh_Request_, semfuse_srv_dds__Mesh_Response_> mesh_server_;
-  Server<semfuse_srv_dds__Admin_Request_, semfuse_srv_dds__Admin_Response_> admin_server_;
+  MapperAccess map_;
+  QueryLimits limits_;
+  HeldMeshes meshes_;
+  AdminActions admin_;
+  // Last, so that their threads stop before what the handlers use goes.
+  Server<wire::RaycastCodec> raycast_server_;
+  Server<wire::LabelsAtCodec> labels_at_server_;
+  Server<wire::RegionCodec> region_server_;
+  Server<wire::ObjectsCodec> objects_server_;
+  Server<wire::MeshCodec> mesh_server_;
+  Server<wire::AdminCodec> admin_server_;
 };
 
 }  // namespace semfuse::server

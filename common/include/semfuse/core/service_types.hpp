@@ -24,7 +24,7 @@ enum class ReplyCode : int32_t {
   kOk = 0,
   kInvalidArgument = 1,  // the request is malformed or asks for something impossible
   kNotFound = 2,         // what it names is gone (a mesh no longer held)
-  kUnavailable = 3,      // the server could not do it now (a save or load that failed)
+  kUnavailable = 3,      // not now: the server is busy or shutting down
   kInternal = 4,         // the server failed
   kTooLarge = 5,         // beyond the server's limits
 };
