@@ -14,6 +14,7 @@
 
 #include "map_layers.hpp"
 #include "map_seal.hpp"
+#include "semfuse/volume/volume_param_table.hpp"
 
 namespace semfuse::volume {
 namespace {
@@ -96,39 +97,62 @@ uint64_t sidecarChecksum(const LabelSidecarGrid::TreeType& tree) {
   return hash;
 }
 
-// The label rule and its parameters; files written before rules existed (version 1) fused with
-// the paper's evidence rule and the defaults.
-Status readLabelRule(const openvdb::MetaMap& meta, VolumeParams& params) {
-  const auto rule = meta.getMetadata<openvdb::StringMetadata>("semfuse:label_rule");
-  if (!rule) return Status::Ok();
-  auto parsed = parseLabelRule(rule->value());
-  if (!parsed) return makeError("metadata 'semfuse:label_rule': " + parsed.error());
-  params.label_rule = parsed.value();
-  auto likelihood = required<float>(meta, "semfuse:label_likelihood");
-  if (!likelihood) return makeError(likelihood.error());
-  auto classes = required<int32_t>(meta, "semfuse:label_classes");
-  if (!classes) return makeError(classes.error());
-  params.label_likelihood = likelihood.value();
-  params.label_classes = classes.value();
+// One VolumeParams field as file metadata (the types map files have always used) and back.
+openvdb::Metadata::Ptr paramMetadata(double value) { return openvdb::DoubleMetadata(value).copy(); }
+openvdb::Metadata::Ptr paramMetadata(float value) { return openvdb::FloatMetadata(value).copy(); }
+openvdb::Metadata::Ptr paramMetadata(int value) { return openvdb::Int32Metadata(value).copy(); }
+openvdb::Metadata::Ptr paramMetadata(bool value) { return openvdb::BoolMetadata(value).copy(); }
+openvdb::Metadata::Ptr paramMetadata(LabelRule rule) { return openvdb::StringMetadata(labelRuleName(rule)).copy(); }
+openvdb::Metadata::Ptr paramMetadata(const std::vector<LabelId>& ids) {
+  return openvdb::StringMetadata(joinIds(ids)).copy();
+}
+
+template <typename T>
+Status readParam(const openvdb::MetaMap& meta, const std::string& key, T& value) {
+  auto stored = required<T>(meta, key);
+  if (!stored) return stored.errorInfo();
+  value = stored.value();
   return Status::Ok();
+}
+Status readParam(const openvdb::MetaMap& meta, const std::string& key, LabelRule& rule) {
+  auto name = required<std::string>(meta, key);
+  if (!name) return name.errorInfo();
+  auto parsed = parseLabelRule(name.value());
+  if (!parsed) return makeError("metadata '" + key + "': " + parsed.error());
+  rule = parsed.value();
+  return Status::Ok();
+}
+Status readParam(const openvdb::MetaMap& meta, const std::string& key, std::vector<LabelId>& ids) {
+  auto text = required<std::string>(meta, key);
+  if (!text) return text.errorInfo();
+  auto parsed = parseIds(text.value(), key);
+  if (!parsed) return parsed.errorInfo();
+  ids = std::move(parsed).value();
+  return Status::Ok();
+}
+
+std::string metadataKey(const ParamField& field) { return std::string("semfuse:") + field.key; }
+
+// Every field the file's version stores (the others keep their defaults). Version 1 predates
+// label rules: its maps were fused with the evidence rule, whatever the default is now.
+Result<VolumeParams> readVolumeParams(const openvdb::MetaMap& meta, int version) {
+  VolumeParams params;
+  if (version < 2) params.label_rule = LabelRule::kEvidence;
+  Status status;
+  forEachVolumeParam(params, [&](const ParamField& field, auto& value) {
+    if (status.ok() && version >= field.since_map_version) status = readParam(meta, metadataKey(field), value);
+  });
+  if (!status) return status.errorInfo();
+  return params;
 }
 
 openvdb::MetaMap fileMetadata(const LabeledVolume& volume, const LabelLegend& legend, const std::string& legend_text,
                               uint64_t checksum, const MapExtraMetadata& extra) {
-  const VolumeParams& p = volume.params();
   openvdb::MetaMap meta;
   meta.insertMeta("semfuse:format_version", openvdb::Int32Metadata(kMapFormatVersion));
-  meta.insertMeta("semfuse:voxel_size", openvdb::DoubleMetadata(p.voxel_size));
-  meta.insertMeta("semfuse:truncation", openvdb::DoubleMetadata(p.truncation));
-  meta.insertMeta("semfuse:max_weight", openvdb::FloatMetadata(p.max_weight));
-  meta.insertMeta("semfuse:max_label_score", openvdb::FloatMetadata(p.max_label_score));
-  meta.insertMeta("semfuse:min_depth", openvdb::FloatMetadata(p.min_depth));
-  meta.insertMeta("semfuse:max_depth", openvdb::FloatMetadata(p.max_depth));
-  meta.insertMeta("semfuse:background_labels", openvdb::StringMetadata(joinIds(p.background_labels)));
-  meta.insertMeta("semfuse:integrate_color", openvdb::BoolMetadata(p.integrate_color));
-  meta.insertMeta("semfuse:label_rule", openvdb::StringMetadata(labelRuleName(p.label_rule)));
-  meta.insertMeta("semfuse:label_likelihood", openvdb::FloatMetadata(p.label_likelihood));
-  meta.insertMeta("semfuse:label_classes", openvdb::Int32Metadata(p.label_classes));
+  forEachVolumeParam(volume.params(), [&meta](const ParamField& field, const auto& value) {
+    meta.insertMeta(metadataKey(field), *paramMetadata(value));
+  });
   if (const LabelSidecarGrid* sidecar = volume.labelSidecarGrid())
     meta.insertMeta("semfuse:label_sidecar_checksum",
                     openvdb::Int64Metadata(static_cast<int64_t>(sidecarChecksum(sidecar->tree()))));
@@ -253,40 +277,19 @@ Result<LoadedMap> readMap(const fs::path& path) {
     return makeError("map format version " + std::to_string(version.value()) +
                      " is not supported (this build reads 1.." + std::to_string(kMapFormatVersion) + ")");
 
-  VolumeParams params;
-  auto voxel = required<double>(*meta, "semfuse:voxel_size");
-  auto truncation = required<double>(*meta, "semfuse:truncation");
-  auto max_weight = required<float>(*meta, "semfuse:max_weight");
-  auto max_score = required<float>(*meta, "semfuse:max_label_score");
-  auto min_depth = required<float>(*meta, "semfuse:min_depth");
-  auto max_depth = required<float>(*meta, "semfuse:max_depth");
-  auto background = required<std::string>(*meta, "semfuse:background_labels");
-  auto color = required<bool>(*meta, "semfuse:integrate_color");
+  auto read_params = readVolumeParams(*meta, version.value());
+  if (!read_params) return read_params.errorInfo();
+  const VolumeParams& params = read_params.value();
   auto frames = required<int64_t>(*meta, "semfuse:frames_integrated");
   auto legend_name = required<std::string>(*meta, "semfuse:legend_name");
   auto legend_text = required<std::string>(*meta, "semfuse:legend");
   auto legend_background = required<std::string>(*meta, "semfuse:legend_background");
   auto checksum = required<int64_t>(*meta, "semfuse:checksum");
   for (const std::string* error :
-       {voxel ? nullptr : &voxel.error(), truncation ? nullptr : &truncation.error(),
-        max_weight ? nullptr : &max_weight.error(), max_score ? nullptr : &max_score.error(),
-        min_depth ? nullptr : &min_depth.error(), max_depth ? nullptr : &max_depth.error(),
-        background ? nullptr : &background.error(), color ? nullptr : &color.error(),
-        frames ? nullptr : &frames.error(), legend_name ? nullptr : &legend_name.error(),
+       {frames ? nullptr : &frames.error(), legend_name ? nullptr : &legend_name.error(),
         legend_text ? nullptr : &legend_text.error(), legend_background ? nullptr : &legend_background.error(),
         checksum ? nullptr : &checksum.error()})
     if (error) return makeError(*error);
-  auto background_ids = parseIds(background.value(), "semfuse:background_labels");
-  if (!background_ids) return makeError(background_ids.error());
-  params.voxel_size = voxel.value();
-  params.truncation = truncation.value();
-  params.max_weight = max_weight.value();
-  params.max_label_score = max_score.value();
-  params.min_depth = min_depth.value();
-  params.max_depth = max_depth.value();
-  params.background_labels = background_ids.value();
-  params.integrate_color = color.value();
-  if (Status rule = readLabelRule(*meta, params); !rule) return makeError(rule.error());
   if (version.value() < 3 && usesLabelSidecar(params.label_rule))
     return makeError("map format version " + std::to_string(version.value()) + " stores the '" +
                      labelRuleName(params.label_rule) +

@@ -1,39 +1,43 @@
 #include "semfuse/volume/volume_params.hpp"
 
 #include <algorithm>
-#include <cmath>
+#include <sstream>
 #include <string>
+#include <type_traits>
+
+#include "semfuse/volume/volume_param_table.hpp"
 
 namespace semfuse::volume {
 namespace {
-// Largest value a half float holds with integer resolution; weights and scores are halves.
-constexpr float kHalfExactIntegerLimit = 2048.0f;
-
-std::string num(double v) { return std::to_string(v); }
+std::string number(double value) {
+  std::ostringstream out;
+  out << value;
+  return out.str();
+}
+Error invalid(std::string message) { return makeError(ErrorCode::kInvalidArgument, std::move(message)); }
 }  // namespace
 
 Status VolumeParams::validate() const {
-  if (!std::isfinite(voxel_size) || voxel_size <= 0.0)
-    return makeError("voxel_size must be a finite positive number of metres, got " + num(voxel_size));
-  if (!std::isfinite(truncation) || truncation < voxel_size)
-    return makeError("truncation must be finite and at least one voxel (" + num(voxel_size) + " m), got " +
-                     num(truncation));
+  Status status;
+  forEachVolumeParam(*this, [&status](const ParamField& field, const auto& value) {
+    using T = std::decay_t<decltype(value)>;
+    if constexpr (std::is_arithmetic_v<T> && !std::is_same_v<T, bool>) {
+      if (status.ok()) status = checkParam(field, static_cast<double>(value));
+    }
+  });
+  if (!status) return status;
+  // What one field's range cannot say.
+  if (truncation < voxel_size)
+    return invalid("truncation must be at least one voxel (" + number(voxel_size) + " m), got " + number(truncation));
   // Half floats store the TSDF: beyond ~65504 they overflow; far earlier the band is absurd.
   if (truncation > 1000.0 * voxel_size)
-    return makeError("truncation " + num(truncation) + " m is more than 1000 voxels wide");
-  if (!std::isfinite(max_weight) || max_weight < 1.0f || max_weight > kHalfExactIntegerLimit)
-    return makeError("max_weight must be in [1, 2048] (stored as half float), got " + num(max_weight));
-  if (!std::isfinite(max_label_score) || max_label_score <= 0.0f || max_label_score > kHalfExactIntegerLimit)
-    return makeError("max_label_score must be in (0, 2048] (stored as half float), got " + num(max_label_score));
-  if (label_classes < 2 || label_classes > 65535)
-    return makeError("label_classes must be in [2, 65535], got " + std::to_string(label_classes));
-  if (!std::isfinite(label_likelihood) || label_likelihood <= 1.0f / static_cast<float>(label_classes) ||
-      label_likelihood >= 1.0f)
-    return makeError("label_likelihood must be above chance (1/label_classes) and below 1, got " +
-                     num(label_likelihood));
-  if (!std::isfinite(min_depth) || !std::isfinite(max_depth) || min_depth <= 0.0f || max_depth <= min_depth)
-    return makeError("depth range must satisfy 0 < min_depth < max_depth, got [" + num(min_depth) + ", " +
-                     num(max_depth) + "]");
+    return invalid("truncation " + number(truncation) + " m is more than 1000 voxels wide");
+  if (label_likelihood <= 1.0f / static_cast<float>(label_classes))
+    return invalid("label_likelihood must be above chance (1/label_classes = " + number(1.0 / label_classes) +
+                   "), got " + number(label_likelihood));
+  if (max_depth <= min_depth)
+    return invalid("depth range must satisfy min_depth < max_depth, got [" + number(min_depth) + ", " +
+                   number(max_depth) + "]");
   return Status::Ok();
 }
 

@@ -5,9 +5,10 @@
 //   label  Int32Grid
 //   color  Int32Grid 0x00RRGGBB (only when the volume has colour)
 //   label_candidates  Int64Grid, the runners-up of a top-5 label rule (only for those rules)
-// all with the same topology, plus file metadata: format version, voxel size, truncation and the
-// other VolumeParams (the label rule since version 2), the label legend, frames integrated,
-// checksums of the packed voxels and the sidecar, and the caller's extra key/value strings.
+// all with the same topology, plus file metadata: format version, every VolumeParams field as
+// "semfuse:<key>" (volume_param_table.hpp; the label rule's since version 2), the label legend,
+// frames integrated, checksums of the packed voxels and the sidecar, and the caller's extra
+// key/value strings.
 // A 32-byte trailer after OpenVDB's bytes seals the file with its length and a CRC-64 (other
 // OpenVDB readers ignore it); load checks it before OpenVDB parses anything, because OpenVDB's
 // reader trusts the sizes in a file and a corrupt one can make it allocate gigabytes or crash.

@@ -1,6 +1,8 @@
 #pragma once
 // Parameters of a labeled volume. A plain struct so that config files, the server and tests can
 // fill it directly; validate() says precisely what is wrong before a volume is built from it.
+// The member initializers are the defaults everywhere (the server's flags, map files); every field
+// has a row in volume_param_table.hpp, which is where its flag, range and map file key live.
 #include <vector>
 
 #include "semfuse/core/legend.hpp"

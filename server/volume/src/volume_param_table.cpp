@@ -1,0 +1,33 @@
+#include "semfuse/volume/volume_param_table.hpp"
+
+#include <cmath>
+#include <sstream>
+
+namespace semfuse::volume {
+namespace {
+std::string number(double value) {
+  std::ostringstream out;
+  out << value;
+  return out.str();
+}
+}  // namespace
+
+bool ParamRange::contains(double value) const {
+  if (!std::isfinite(value)) return false;
+  const bool above = low_open ? value > low : value >= low;
+  const bool below = high_open ? value < high : value <= high;
+  return above && below;
+}
+
+std::string ParamRange::text() const {
+  if (std::isinf(high)) return (low_open ? "> " : ">= ") + number(low);
+  return std::string("in ") + (low_open ? "(" : "[") + number(low) + ", " + number(high) + (high_open ? ")" : "]");
+}
+
+Status checkParam(const ParamField& field, double value) {
+  if (!field.range || field.range->contains(value)) return Status::Ok();
+  return makeError(ErrorCode::kInvalidArgument, std::string(field.key) + " must be a finite number " +
+                                                    field.range->text() + ", got " + number(value));
+}
+
+}  // namespace semfuse::volume
