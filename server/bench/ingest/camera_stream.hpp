@@ -1,0 +1,31 @@
+#pragma once
+// One camera of the ingest bench: frames first_index, first_index+1, ... (wrapping) at slot times
+// start + n * period. A slot that is already over when the previous write returns is skipped, not
+// sent late in a burst: a real camera does not queue its frames either.
+#include <atomic>
+#include <chrono>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "msg.h"
+#include "preloaded_frames.hpp"
+#include "semfuse/dds/writer.hpp"
+
+namespace semfuse::bench::ingest {
+
+using FrameMsg = semfuse_msg_dds__Frame_;
+
+struct CameraResult {
+  std::size_t sent = 0, write_failures = 0, skipped_slots = 0;
+  std::vector<double> write_ms;
+};
+
+// Publishes until the slots are done or the bench is interrupted; current_index (when given)
+// follows the frame last sent, for the raycasts that look where the camera is.
+void runCamera(const Preloaded& data, const dds::Writer<FrameMsg>& writer, std::string camera_id,
+               std::size_t first_index, std::chrono::steady_clock::time_point start,
+               std::chrono::steady_clock::duration period, std::size_t slots, CameraResult& result,
+               std::atomic<std::size_t>* current_index);
+
+}  // namespace semfuse::bench::ingest
