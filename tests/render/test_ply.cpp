@@ -1,11 +1,6 @@
 // The PLY bytes parse back: header, counts, a vertex and a face, as a reader would see them.
 #include <cstring>
-#include <fstream>
-#include <iterator>
-#include <sstream>
 #include <string>
-
-#include <unistd.h>
 
 #include <gtest/gtest.h>
 
@@ -87,17 +82,6 @@ TEST(Ply, InconsistentMeshIsAnError) {
   voxel_color.color = PlyColor::kVoxelColor;
   EXPECT_FALSE(plyBytes(no_colors, LabelLegend{}, voxel_color).ok());
   EXPECT_TRUE(plyBytes(no_colors, LabelLegend{}).ok());
-}
-
-TEST(Ply, WritesTheSameBytesToAFile) {
-  const auto path =
-      std::filesystem::temp_directory_path() / ("semfuse_test_mesh_" + std::to_string(::getpid()) + ".ply");
-  ASSERT_TRUE(writePly(twoTriangles(), LabelLegend{}, path).ok());
-  std::ifstream file(path, std::ios::binary);
-  const std::string on_disk((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
-  EXPECT_EQ(on_disk, plyBytes(twoTriangles(), LabelLegend{}).value());
-  std::filesystem::remove(path);
-  EXPECT_FALSE(writePly(twoTriangles(), LabelLegend{}, "/nonexistent-dir/x.ply").ok());
 }
 
 }  // namespace

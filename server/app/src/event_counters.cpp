@@ -13,21 +13,6 @@ uint64_t EventCounters::get(const std::string& reason, const std::string& camera
   return it == counts_.end() ? 0 : it->second;
 }
 
-uint64_t EventCounters::total() const {
-  std::lock_guard lock(mutex_);
-  uint64_t sum = 0;
-  for (const auto& [key, count] : counts_) sum += count;
-  return sum;
-}
-
-uint64_t EventCounters::totalFor(const std::string& camera_id) const {
-  std::lock_guard lock(mutex_);
-  uint64_t sum = 0;
-  for (const auto& [key, count] : counts_)
-    if (key.second == camera_id) sum += count;
-  return sum;
-}
-
 std::vector<CounterEntry> EventCounters::snapshot() const {
   std::lock_guard lock(mutex_);
   std::vector<CounterEntry> out;
@@ -36,14 +21,8 @@ std::vector<CounterEntry> EventCounters::snapshot() const {
   return out;
 }
 
-void EventCounters::clear() {
-  std::lock_guard lock(mutex_);
-  counts_.clear();
-}
-
 void ErrorLog::record(std::string source, std::string message) {
   std::lock_guard lock(mutex_);
-  ++total_;
   records_.push_back({std::chrono::system_clock::now(), std::move(source), std::move(message)});
   while (records_.size() > capacity_) records_.pop_front();
 }
@@ -51,11 +30,6 @@ void ErrorLog::record(std::string source, std::string message) {
 std::vector<ErrorRecord> ErrorLog::snapshot() const {
   std::lock_guard lock(mutex_);
   return {records_.begin(), records_.end()};
-}
-
-uint64_t ErrorLog::totalRecorded() const {
-  std::lock_guard lock(mutex_);
-  return total_;
 }
 
 }  // namespace semfuse::server

@@ -23,10 +23,7 @@ class EventCounters {
  public:
   void add(const std::string& reason, const std::string& camera_id, uint64_t n = 1);
   uint64_t get(const std::string& reason, const std::string& camera_id) const;
-  uint64_t total() const;
-  uint64_t totalFor(const std::string& camera_id) const;
   std::vector<CounterEntry> snapshot() const;  // sorted by reason, then camera
-  void clear();
 
  private:
   mutable std::mutex mutex_;
@@ -45,12 +42,10 @@ class ErrorLog {
   explicit ErrorLog(size_t capacity = 16) : capacity_(capacity) {}
   void record(std::string source, std::string message);
   std::vector<ErrorRecord> snapshot() const;
-  uint64_t totalRecorded() const;
 
  private:
   mutable std::mutex mutex_;
   size_t capacity_;
-  uint64_t total_ = 0;
   std::deque<ErrorRecord> records_;
 };
 

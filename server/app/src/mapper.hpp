@@ -70,7 +70,6 @@ class Mapper {
   std::shared_ptr<const volume::LabeledVolume> snapshot() const;
 
   const LabelLegend& legend() const { return options_.legend; }
-  const volume::VolumeParams& volumeParams() const { return options_.volume; }
 
   Status save(const std::filesystem::path& path, const volume::MapExtraMetadata& extra = {}) const;
   // Replaces the map with a file's content; the map is untouched when the file is missing

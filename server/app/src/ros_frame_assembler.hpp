@@ -66,7 +66,6 @@ class RosFrameAssembler {
   // Frames now complete, in seq order, and the images given up since the last call.
   void poll(Clock::time_point now, const PoseLookup& lookup, std::vector<Frame>& frames, std::vector<Drop>& drops);
 
-  size_t pendingDepth() const { return depth_.size(); }
   size_t pendingColor() const { return color_.size(); }
 
  private:

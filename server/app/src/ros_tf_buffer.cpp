@@ -89,9 +89,4 @@ Result<Pose> TfBuffer::lookup(const std::string& target, const std::string& sour
   return Pose(target_chain.value().second.inverse() * source_chain.value().second);
 }
 
-size_t TfBuffer::frameCount() const {
-  std::lock_guard lock(mutex_);
-  return edges_.size();
-}
-
 }  // namespace semfuse::server

@@ -28,8 +28,6 @@ class TfBuffer {
   // which edge is missing or out of its time range.
   Result<Pose> lookup(const std::string& target, const std::string& source, Stamp stamp) const;
 
-  size_t frameCount() const;
-
  private:
   struct Sample {
     double t;

@@ -72,7 +72,6 @@ class CrossingCells {
     static int offsetInLeaf(int x, int y, int z) { return ((x & 7) << 6) | ((y & 7) << 3) | (z & 7); }
 
     bool isCrossing(int x, int y, int z) const { return (crossing[x] >> ((y << 3) | z)) & 1u; }
-    bool anyCrossing() const { return blocks2 != 0; }
     // Edge (8, 4 or 2 cells) of the largest aligned block around local cell (x, y, z) that holds
     // no crossing cell, or 1 when the 2^3 block around it holds one.
     int emptyBlockDim(int x, int y, int z) const {

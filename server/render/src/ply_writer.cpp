@@ -1,8 +1,6 @@
 #include "semfuse/render/ply_writer.hpp"
 
 #include <cstring>
-#include <fstream>
-#include <system_error>
 
 namespace semfuse::render {
 namespace {
@@ -84,24 +82,6 @@ Result<std::string> plyBytes(const LabeledMesh& mesh, const LabelLegend& legend,
     for (uint32_t index : t) w.i32(static_cast<int32_t>(index));
   }
   return out;
-}
-
-Status writePly(const LabeledMesh& mesh, const LabelLegend& legend, const std::filesystem::path& path,
-                const PlyOptions& options) {
-  auto bytes = plyBytes(mesh, legend, options);
-  if (!bytes) return makeError(bytes.error());
-  std::filesystem::path temporary = path;
-  temporary += ".tmp";
-  {
-    std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
-    if (!file) return makeError("cannot open " + temporary.string() + " for writing");
-    file.write(bytes.value().data(), static_cast<std::streamsize>(bytes.value().size()));
-    if (!file.flush()) return makeError("write to " + temporary.string() + " failed");
-  }
-  std::error_code error;
-  std::filesystem::rename(temporary, path, error);
-  if (error) return makeError("cannot rename " + temporary.string() + " to " + path.string() + ": " + error.message());
-  return Status::Ok();
 }
 
 }  // namespace semfuse::render

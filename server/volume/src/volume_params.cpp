@@ -1,6 +1,5 @@
 #include "semfuse/volume/volume_params.hpp"
 
-#include <algorithm>
 #include <sstream>
 #include <string>
 #include <type_traits>
@@ -39,10 +38,6 @@ Status VolumeParams::validate() const {
     return invalid("depth range must satisfy min_depth < max_depth, got [" + number(min_depth) + ", " +
                    number(max_depth) + "]");
   return Status::Ok();
-}
-
-bool VolumeParams::isBackground(LabelId label) const {
-  return std::find(background_labels.begin(), background_labels.end(), label) != background_labels.end();
 }
 
 LabelRuleConfig VolumeParams::labelRuleConfig() const {

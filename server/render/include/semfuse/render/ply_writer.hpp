@@ -4,7 +4,6 @@
 //   float x y z; [float nx ny nz]; uchar red green blue; ushort label; float score
 // Faces: "list uchar int vertex_indices", triangles only.
 #include <cstdint>
-#include <filesystem>
 #include <string>
 
 #include "semfuse/core/legend.hpp"
@@ -26,9 +25,5 @@ struct PlyOptions {
 // Fails when the mesh's per-vertex arrays disagree in length, a triangle indexes past the
 // vertices, or voxel colour is asked of a mesh without colours.
 Result<std::string> plyBytes(const LabeledMesh& mesh, const LabelLegend& legend, const PlyOptions& options = {});
-
-// Same bytes, written atomically enough for a viewer: temporary file then rename.
-Status writePly(const LabeledMesh& mesh, const LabelLegend& legend, const std::filesystem::path& path,
-                const PlyOptions& options = {});
 
 }  // namespace semfuse::render

@@ -43,7 +43,6 @@ class LabeledVolume {
 
   // Voxel <-> world. worldToIndex rounds to the nearest voxel centre.
   openvdb::Coord worldToIndex(const Eigen::Vector3d& world) const;
-  Eigen::Vector3d worldToIndexContinuous(const Eigen::Vector3d& world) const { return world / voxelSize(); }
   Eigen::Vector3d indexToWorld(const openvdb::Coord& ijk) const;
 
   // Single-voxel lookups (convenience; use VolumeSampler in loops, it caches tree paths).
@@ -52,7 +51,6 @@ class LabeledVolume {
   PackedVoxel packedVoxel(const openvdb::Coord& ijk) const { return geometry_->tree().getValue(ijk); }
   // Colour of a voxel; black where there is no colour grid or the voxel was never coloured.
   Rgb8 color(const openvdb::Coord& ijk) const;
-  Rgb8 colorAt(const Eigen::Vector3d& world) const { return color(worldToIndex(world)); }
 
   // Size figures. Allocated voxels are all voxels of allocated leaves (what memory is spent on);
   // observed voxels are those with weight > 0 (the grid's active voxels).
@@ -71,7 +69,6 @@ class LabeledVolume {
   // The grids, for render/tracking/mesh code that iterates leaves or builds its own accessors.
   // colorGrid() is null when the volume has no colour.
   const GeometryGrid& geometryGrid() const { return *geometry_; }
-  GeometryGrid::ConstPtr geometryGridPtr() const { return geometry_; }
   const ColorGrid* colorGrid() const { return color_.get(); }
   ColorGrid::ConstPtr colorGridPtr() const { return color_; }
   // The label rule's runners-up; null when the rule keeps none (evidence).

@@ -44,7 +44,6 @@ struct VolumeParams {
   bool integrate_color = true;  // keep a colour grid (4 bytes per voxel extra)
 
   Status validate() const;
-  bool isBackground(LabelId label) const;
   LabelRuleConfig labelRuleConfig() const;
 };
 

@@ -120,10 +120,6 @@ inline PackedVoxel packVoxel(float tsdf, float weight, LabelId label, float scor
 inline PackedVoxel packVoxel(const VoxelValue& v) { return packVoxel(v.tsdf, v.weight, v.label, v.score); }
 
 inline float unpackTsdf(PackedVoxel v) { return detail::halfValue(detail::asBits(v)); }
-// TSDF of n voxels at once (the 8 corners of a cell), branch-free.
-inline void unpackTsdfs(const PackedVoxel* voxels, float* tsdf, int n) {
-  for (int i = 0; i < n; ++i) tsdf[i] = detail::halfValueBranchless(detail::asBits(voxels[i]));
-}
 inline float unpackWeight(PackedVoxel v) { return detail::halfValue(detail::asBits(v) >> 16); }
 inline LabelId unpackLabel(PackedVoxel v) { return static_cast<LabelId>(detail::asBits(v) >> 32); }
 inline float unpackScore(PackedVoxel v) { return detail::halfValue(detail::asBits(v) >> 48); }
