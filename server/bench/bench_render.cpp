@@ -94,7 +94,8 @@ int runRenderBench(const RenderBenchOptions& options) {
   volume::VolumeParams params;
   params.voxel_size = options.voxel;
   params.truncation = options.truncation;
-  params.integrate_color = false;  // the timed layers do not read colour
+  params.integrate_color = false;                    // the timed layers do not read colour
+  params.label_rule = volume::LabelRule::kEvidence;  // depth only: no label sidecar to allocate and copy
   if (Status valid = params.validate(); !valid || frames == 0) {
     std::fprintf(stderr, "semfuse-bench render: %s\n", valid ? "no frames" : valid.error().c_str());
     return 2;

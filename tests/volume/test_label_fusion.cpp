@@ -48,8 +48,15 @@ TEST(LabelEvidence, NegativeScoreIsReplacedByTheNextObservation) {
 }
 
 // A camera at the origin looking down +z at a wall 1 m away; the voxel on the wall straight ahead.
+// The volumes fuse with Algorithm 1, the evidence rule (the default is bayes).
 class LabelFusionInVolume : public ::testing::Test {
  protected:
+  static VolumeParams evidenceParams() {
+    VolumeParams params;
+    params.label_rule = LabelRule::kEvidence;
+    return params;
+  }
+
   const PinholeIntrinsics k = smallCamera();
   const Pose pose = Pose::Identity();
   const cv::Mat depth = cv::Mat(k.height, k.width, CV_32FC1, cv::Scalar(1.0));
@@ -65,7 +72,7 @@ class LabelFusionInVolume : public ::testing::Test {
 };
 
 TEST_F(LabelFusionInVolume, EveryBranchOfAlgorithmOne) {
-  VolumeParams params;
+  VolumeParams params = evidenceParams();
   params.max_label_score = 2.0f;
   LabeledVolume volume(params);
   fuse(volume, 5, 0.75f);  // unlabeled: take
@@ -91,7 +98,7 @@ TEST_F(LabelFusionInVolume, EveryBranchOfAlgorithmOne) {
 }
 
 TEST_F(LabelFusionInVolume, UnlabeledPixelsChangeNothing) {
-  LabeledVolume volume;
+  LabeledVolume volume(evidenceParams());
   fuse(volume, 5, 0.75f);
   fuse(volume, kUnlabeled, 1.0f);
   EXPECT_EQ(volume.voxel(wall).label, 5);
@@ -99,7 +106,7 @@ TEST_F(LabelFusionInVolume, UnlabeledPixelsChangeNothing) {
 }
 
 TEST_F(LabelFusionInVolume, BackgroundLabelsChangeNothing) {
-  VolumeParams params;
+  VolumeParams params = evidenceParams();
   params.background_labels = {3, 11};
   LabeledVolume volume(params);
   fuse(volume, 3, 1.0f);
@@ -112,7 +119,7 @@ TEST_F(LabelFusionInVolume, BackgroundLabelsChangeNothing) {
 }
 
 TEST_F(LabelFusionInVolume, ZeroOrInvalidConfidenceChangesNothing) {
-  LabeledVolume volume;
+  LabeledVolume volume(evidenceParams());
   fuse(volume, 5, 0.0f);
   EXPECT_EQ(volume.voxel(wall).label, kUnlabeled);
   fuse(volume, 5, std::numeric_limits<float>::quiet_NaN());
@@ -120,7 +127,7 @@ TEST_F(LabelFusionInVolume, ZeroOrInvalidConfidenceChangesNothing) {
 }
 
 TEST_F(LabelFusionInVolume, LateSegmentationLabelsWithoutTouchingGeometry) {
-  LabeledVolume volume;
+  LabeledVolume volume(evidenceParams());
   ASSERT_TRUE(integrate(volume, depth, cv::Mat(), k, pose).ok());
   const VoxelValue before = volume.voxel(wall);
   ASSERT_EQ(before.label, kUnlabeled);
@@ -143,7 +150,7 @@ TEST_F(LabelFusionInVolume, LateSegmentationLabelsWithoutTouchingGeometry) {
 }
 
 TEST_F(LabelFusionInVolume, DepthDisagreementChangesNothing) {
-  LabeledVolume volume;
+  LabeledVolume volume(evidenceParams());
   fuse(volume, 5, 0.75f);
   // The segmentation's frame saw a surface 10 cm behind the wall voxels: they do not agree.
   const cv::Mat behind(k.height, k.width, CV_32FC1, cv::Scalar(1.1));
@@ -155,7 +162,7 @@ TEST_F(LabelFusionInVolume, DepthDisagreementChangesNothing) {
 }
 
 TEST_F(LabelFusionInVolume, SmallerLabelImagesAreUpsampledNearestNeighbour) {
-  LabeledVolume volume;
+  LabeledVolume volume(evidenceParams());
   cv::Mat half_labels = labels(1, {80, 60});
   half_labels.colRange(40, 80).setTo(2);  // right half of the image: label 2
   ASSERT_TRUE(integrate(volume, depth, cv::Mat(), half_labels, confidence(1.0f, {80, 60}), k, pose).ok());

@@ -261,7 +261,9 @@ TEST_F(LabelRuleInVolume, MajorityKeepsRunnersUpInTheSidecarAndTheWinnerInTheVox
   EXPECT_EQ(volume.labelSidecarGrid()->tree().leafCount(), volume.geometryGrid().tree().leafCount());
   EXPECT_GT(volume.labelSidecarMemoryBytes(), 0u);
 
-  LabeledVolume evidence{VolumeParams{}};
+  VolumeParams evidence_params;
+  evidence_params.label_rule = LabelRule::kEvidence;
+  LabeledVolume evidence{evidence_params};
   EXPECT_EQ(evidence.labelSidecarGrid(), nullptr);
   EXPECT_EQ(evidence.labelSidecarMemoryBytes(), 0u);
 }

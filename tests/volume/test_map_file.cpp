@@ -31,9 +31,11 @@ class MapFile : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(folder_); }
 
-  // A plane seen from two poses with labels and colour.
+  // A plane seen from two poses with labels and colour, fused with the evidence rule (which
+  // version 2 files of it load with too).
   static LabeledVolume labeledPlane() {
     VolumeParams params;
+    params.label_rule = LabelRule::kEvidence;
     params.background_labels = {3};
     params.max_label_score = 8;
     LabeledVolume volume(params);
@@ -176,6 +178,25 @@ class DamagedMapFile : public MapFile {
 
   std::size_t payloadSize() const { return bytes_.size() - kTrailer; }
 
+  // The sealed bytes of a plane fused with the bayes rule (its candidates in the sidecar grid).
+  std::string sealedBayesMap() const {
+    VolumeParams params;
+    params.label_rule = LabelRule::kBayes;
+    params.label_likelihood = 0.8f;
+    LabeledVolume bayes(params);
+    const PinholeIntrinsics k = testing::smallCamera();
+    const Pose pose = testing::lookAt({0, 0, 0}, {0, 0, 1});
+    const cv::Mat labels(k.height, k.width, CV_16UC1, cv::Scalar(4));
+    const cv::Mat confidence(k.height, k.width, CV_32FC1, cv::Scalar(0.6));
+    const cv::Mat color(k.height, k.width, CV_8UC3, cv::Scalar(10, 120, 230));
+    EXPECT_TRUE(
+        integrate(bayes, testing::renderPlane(k, pose, {0, 0, -1}, -1.0), color, labels, confidence, k, pose).ok());
+    const fs::path path = folder_ / "bayes.vdb";
+    EXPECT_TRUE(saveMap(bayes, legend(), path).ok());
+    std::ifstream in(path, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  }
+
   static constexpr std::size_t kTrailer = 32;
   std::string bytes_;
 };
@@ -276,24 +297,25 @@ TEST_F(DamagedMapFile, VersionTwoLoadsWithTheEvidenceRuleAndIsRefusedWithATopFiv
   ASSERT_EQ(labeledPlane().params().label_rule, LabelRule::kEvidence);
   EXPECT_EQ(loadError(withFormatVersion(bytes_, 2)), "");
 
-  VolumeParams params;
-  params.label_rule = LabelRule::kBayes;
-  LabeledVolume bayes(params);
-  const PinholeIntrinsics k = testing::smallCamera();
-  const Pose pose = testing::lookAt({0, 0, 0}, {0, 0, 1});
-  const cv::Mat labels(k.height, k.width, CV_16UC1, cv::Scalar(4));
-  const cv::Mat confidence(k.height, k.width, CV_32FC1, cv::Scalar(0.6));
-  const cv::Mat color(k.height, k.width, CV_8UC3, cv::Scalar(10, 120, 230));
-  ASSERT_TRUE(
-      integrate(bayes, testing::renderPlane(k, pose, {0, 0, -1}, -1.0), color, labels, confidence, k, pose).ok());
-  const fs::path path = folder_ / "bayes.vdb";
-  ASSERT_TRUE(saveMap(bayes, legend(), path).ok());
-  std::ifstream in(path, std::ios::binary);
-  const std::string sealed((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string sealed = sealedBayesMap();
   EXPECT_EQ(loadError(sealed), "");
   const std::string error = loadError(withFormatVersion(sealed, 2));
   EXPECT_NE(error.find("map format version 2 stores the 'bayes' rule's candidates as a top-3 list"), std::string::npos)
       << error;
+}
+
+// Version 1 predates label rules: its maps were fused with the evidence rule, and load so
+// whatever the default rule is now; label rule fields in a file marked version 1 are not read.
+TEST_F(DamagedMapFile, VersionOneLoadsWithTheEvidenceRuleWhateverTheDefault) {
+  ASSERT_EQ(VolumeParams{}.label_rule, LabelRule::kBayes);
+  auto loaded = loadMap(write(withFormatVersion(sealedBayesMap(), 1)));
+  ASSERT_TRUE(loaded.ok()) << loaded.error();
+  const VolumeParams& params = loaded.value().volume.params();
+  EXPECT_EQ(loaded.value().format_version, 1);
+  EXPECT_EQ(params.label_rule, LabelRule::kEvidence);
+  EXPECT_EQ(params.label_likelihood, VolumeParams{}.label_likelihood);  // the file's 0.8 is not read
+  EXPECT_EQ(params.voxel_size, VolumeParams{}.voxel_size);
+  EXPECT_EQ(loaded.value().volume.labelSidecarGrid(), nullptr);
 }
 
 TEST_F(DamagedMapFile, NonMapFilesAreRefused) {

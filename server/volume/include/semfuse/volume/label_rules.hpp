@@ -59,13 +59,14 @@ inline std::size_t labelRuleBytesPerVoxel(LabelRule rule) {
 using LabelSidecarGrid = openvdb::Int64Grid;  // per voxel: the runners-up, 0 = none
 using PackedLabelSidecar = openvdb::Int64;
 
-// What a label update needs, precomputed once per frame.
+// What a label update needs, precomputed once per frame by VolumeParams::labelRuleConfig() (the
+// defaults are VolumeParams').
 struct LabelRuleConfig {
   LabelRule rule = LabelRule::kEvidence;
-  float max_score = 16.0f;                 // W_clamp
-  float label_classes = 20;                // L of the bayes likelihood
-  float likelihood = 0.9f;                 // p_max: probability that a full-confidence pixel label is right
-  float full_confidence_log_ratio = 1.0f;  // bayes evidence of one observation at w = 1 (the unit)
+  float max_score = 0.0f;                  // W_clamp
+  float label_classes = 0.0f;              // L of the bayes likelihood
+  float likelihood = 0.0f;                 // p_max: probability that a full-confidence pixel label is right
+  float full_confidence_log_ratio = 0.0f;  // bayes evidence of one observation at w = 1 (the unit)
 };
 
 // The chance-corrected log-likelihood ratio of the bayes rule for confidence w (0 at w = 0).
