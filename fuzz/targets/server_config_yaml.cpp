@@ -30,7 +30,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     return 0;  // what CLI11_PARSE turns into a message and exit code 2
   }
   // Accepted: the options' own checks held.
-  SEMFUSE_FUZZ_CHECK(config.voxel_size > 0.0 && config.truncation > 0.0 && config.queue_per_camera > 0);
+  SEMFUSE_FUZZ_CHECK(config.volume.voxel_size > 0.0 && config.volume.truncation > 0.0 && config.queue_per_camera > 0);
   // What was read writes back out as YAML that reads in again.
   const std::string written = app.config_to_str(true, false);
   semfuse::server::ServerConfig again;

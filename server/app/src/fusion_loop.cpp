@@ -13,8 +13,9 @@ FusionLoop::FusionLoop(Mapper& mapper, FrameQueue& frames, ServerState& state, c
       frames_(frames),
       state_(state),
       on_frame_(std::move(on_frame)),
-      history_(limits.history_frames, limits.history_bytes),
-      pending_(limits.pending_segmentations, limits.pending_timeout) {}
+      history_(limits.history_frames, limits.history_megabytes << 20),
+      pending_(limits.pending_segmentations,
+               std::chrono::milliseconds(static_cast<int64_t>(limits.pending_timeout_s * 1000))) {}
 
 FusionLoop::~FusionLoop() { stop(); }
 

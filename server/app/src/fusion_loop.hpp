@@ -13,18 +13,12 @@
 
 #include "frame_history.hpp"
 #include "frame_queue.hpp"
+#include "fusion_limits.hpp"
 #include "mapper.hpp"
 #include "pending_segmentations.hpp"
 #include "server_state.hpp"
 
 namespace semfuse::server {
-
-struct FusionLimits {
-  size_t history_frames = 120;
-  size_t history_bytes = 512u << 20;
-  size_t pending_segmentations = 64;
-  std::chrono::milliseconds pending_timeout{10000};
-};
 
 class FusionLoop {
  public:

@@ -7,10 +7,10 @@
 
 #include <spdlog/spdlog.h>
 
-#include "semfuse/core/legend_io.hpp"
 #include "semfuse/dds/qos.hpp"
 #include "semfuse/dds/sample.hpp"
 #include "semfuse/dds/topics.hpp"
+#include "semfuse/volume/volume_param_table.hpp"
 #include "semfuse/wire/message_codecs.hpp"
 #include "semfuse/wire/ros_codec.hpp"
 #include "semfuse/wire/status_codec.hpp"
@@ -29,37 +29,16 @@ dds_domainid_t prepareDds(const ServerConfig& config) {
   return static_cast<dds_domainid_t>(config.domain_id);
 }
 
-LabelLegend legendFor(const ServerConfig& config) {
-  auto legend = resolveLegend(config.legend);
-  if (!legend.ok()) throw std::runtime_error("--legend " + config.legend + ": " + legend.error());
-  LabelLegend result = std::move(legend).value();
-  for (LabelId id : config.background_labels) result.background_ids.push_back(id);
-  std::sort(result.background_ids.begin(), result.background_ids.end());
-  result.background_ids.erase(std::unique(result.background_ids.begin(), result.background_ids.end()),
-                              result.background_ids.end());
-  return result;
+// Configuration errors end the server before it serves (main reports them).
+template <class T>
+T valueOrThrow(Result<T> result) {
+  if (!result) throw std::runtime_error(result.error());
+  return std::move(result).value();
 }
 
 MapperOptions mapperOptions(const ServerConfig& config, const LabelLegend& legend) {
   MapperOptions options;
-  options.volume.voxel_size = config.voxel_size;
-  options.volume.truncation = config.truncation;
-  options.volume.max_weight = config.max_weight;
-  if (config.max_label_score > 0.0f) options.volume.max_label_score = config.max_label_score;
-  auto rule = volume::parseLabelRule(config.label_rule);
-  if (!rule) throw std::runtime_error("--label-rule: " + rule.error());
-  options.volume.label_rule = rule.value();
-  // The top-5 rules store runners-up in 10 bits: a legend beyond that would lose labels silently.
-  if (volume::usesLabelSidecar(rule.value()) && legend.maxId() > volume::kMaxRunnerUpLabel)
-    throw std::runtime_error("--label-rule " + config.label_rule + " keeps label ids up to " +
-                             std::to_string(volume::kMaxRunnerUpLabel) + ", but legend '" + legend.name + "' has id " +
-                             std::to_string(legend.maxId()) + "; use --label-rule evidence");
-  options.volume.label_classes = static_cast<int>(std::clamp<std::size_t>(legend.labels.size(), 2, 65535));
-  options.volume.min_depth = config.min_depth;
-  options.volume.max_depth = config.max_depth;
-  options.volume.integrate_color = config.integrate_color;
-  options.volume.background_labels = legend.background_ids;
-  if (Status ok = options.volume.validate(); !ok) throw std::runtime_error("map parameters: " + ok.error());
+  options.volume = valueOrThrow(serverVolumeParams(config, legend));
   options.legend = legend;
   options.refine_given_poses = config.refine_given_poses;
   return options;
@@ -73,7 +52,7 @@ double secondsSince(std::chrono::steady_clock::time_point t) {
 
 FusionServer::FusionServer(ServerConfig config)
     : config_(std::move(config)),
-      legend_(legendFor(config_)),
+      legend_(valueOrThrow(serverLegend(config_))),
       participant_(prepareDds(config_)),
       frames_(config_.queue_per_camera),
       pose_topic_(participant_, dds::topics::kPoses),
@@ -93,12 +72,7 @@ FusionServer::FusionServer(ServerConfig config)
                  size.observed_voxels);
   }
 
-  FusionLimits limits;
-  limits.history_frames = config_.history_frames;
-  limits.history_bytes = config_.history_megabytes << 20;
-  limits.pending_segmentations = config_.pending_segmentations;
-  limits.pending_timeout = std::chrono::milliseconds(static_cast<int64_t>(config_.pending_timeout_s * 1000));
-  fusion_ = std::make_unique<FusionLoop>(*mapper_, frames_, state_, limits,
+  fusion_ = std::make_unique<FusionLoop>(*mapper_, frames_, state_, config_.fusion,
                                          [this](const Frame& f, const FrameOutcome& o) { publishPose(f, o); });
   ingest_ = std::make_unique<Ingest>(participant_, frames_, *fusion_, state_, legend_);
   if (config_.ros.enabled) ros_ingest_ = std::make_unique<RosIngest>(participant_, config_.ros, frames_, state_);
@@ -123,8 +97,10 @@ int FusionServer::run() {
   ingest_->start();
   if (ros_ingest_) ros_ingest_->start();
   spdlog::info("serving on domain {}: voxel {} m, truncation {} m, legend '{}' ({} labels){}", config_.domain_id,
-               config_.voxel_size, config_.truncation, legend_.name, legend_.labels.size(),
+               config_.volume.voxel_size, config_.volume.truncation, legend_.name, legend_.labels.size(),
                config_.map_file.empty() ? "" : ", map " + config_.map_file);
+  spdlog::debug("map parameters: {}",
+                mapper_->read([](const volume::LabeledVolume& v) { return volume::volumeParamsText(v.params()); }));
 
   using namespace std::chrono_literals;
   auto last_status = std::chrono::steady_clock::now() - 1h;
@@ -224,8 +200,8 @@ ServerStatus FusionServer::snapshot() const {
   s.queued_frames = static_cast<uint32_t>(frames_.size());
   s.pending_segmentations = static_cast<uint32_t>(fusion_->pendingSegmentations());
   s.history_frames = static_cast<uint32_t>(fusion_->historyFrames());
-  s.voxel_size = config_.voxel_size;
-  s.truncation = config_.truncation;
+  s.voxel_size = config_.volume.voxel_size;
+  s.truncation = config_.volume.truncation;
   const auto size = mapper_->size();
   s.allocated_voxels = size.allocated_voxels;
   s.allocated_blocks = size.allocated_blocks;

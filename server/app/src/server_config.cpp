@@ -1,6 +1,61 @@
 #include "server_config.hpp"
 
+#include <algorithm>
+#include <cstdlib>
+#include <type_traits>
+
+#include "semfuse/core/legend_io.hpp"
+#include "semfuse/volume/volume_param_table.hpp"
+
 namespace semfuse::server {
+namespace {
+
+// A numeric flag's value against its table row's range, with the row's message.
+CLI::Validator rangeCheck(const volume::ParamField& field) {
+  return CLI::Validator(
+      [field](std::string& input) -> std::string {
+        char* end = nullptr;
+        const double value = std::strtod(input.c_str(), &end);
+        if (end == input.c_str()) return std::string();  // not a number: CLI11's conversion says so
+        Status ok = volume::checkParam(field, value);
+        return ok ? std::string() : ok.error();
+      },
+      field.range->text());
+}
+
+CLI::Validator labelRuleCheck() {
+  return CLI::Validator(
+      [](std::string& input) -> std::string {
+        auto rule = volume::parseLabelRule(input);
+        return rule ? std::string() : rule.error();
+      },
+      std::string(volume::labelRuleName(volume::LabelRule::kBayes)) + "|" +
+          volume::labelRuleName(volume::LabelRule::kMajority) + "|" +
+          volume::labelRuleName(volume::LabelRule::kEvidence));
+}
+
+// One flag per table row that has one, bound to its member, the member's value shown as default.
+void addVolumeOptions(CLI::App& app, volume::VolumeParams& params, const std::string& group) {
+  volume::forEachVolumeParam(params, [&app, &group](const volume::ParamField& field, auto& value) {
+    if (field.flag == nullptr) return;
+    using T = std::decay_t<decltype(value)>;
+    const std::string name = std::string("--") + field.flag;
+    CLI::Option* option = nullptr;
+    if constexpr (std::is_same_v<T, volume::LabelRule>) {
+      option =
+          app.add_option_function<std::string>(
+                 name, [&value](const std::string& text) { value = volume::parseLabelRule(text).value(); }, field.doc)
+              ->check(labelRuleCheck())
+              ->default_str(volume::labelRuleName(value));
+    } else {
+      option = app.add_option(name, value, field.doc)->capture_default_str();
+    }
+    if (field.range) option->check(rangeCheck(field));
+    option->group(group);
+  });
+}
+
+}  // namespace
 
 void addServerOptions(CLI::App& app, ServerConfig& c) {
   auto* dds = "DDS";
@@ -10,37 +65,11 @@ void addServerOptions(CLI::App& app, ServerConfig& c) {
       ->group(dds);
   app.add_option("--server-id", c.server_id, "name reported in status")->group(dds)->capture_default_str();
 
-  auto* map = "Map";
-  app.add_option("--voxel-size", c.voxel_size, "voxel edge, metres")
-      ->group(map)
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
-  app.add_option("--truncation", c.truncation, "TSDF truncation distance, metres")
-      ->group(map)
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
-  app.add_option("--max-weight", c.max_weight, "TSDF weight clamp")
-      ->group(map)
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
-  app.add_option("--max-label-score", c.max_label_score, "label score clamp W_clamp (0 = library default)")
-      ->group(map)
-      ->capture_default_str();
-  app.add_option("--label-rule", c.label_rule,
-                 "label fusion: bayes (top-5 log-probabilities), majority (top-5 counts) or evidence "
-                 "(the paper's Algorithm 1); see docs/eval")
-      ->group(map)
-      ->capture_default_str()
-      ->check(CLI::IsMember({"evidence", "majority", "bayes"}));
-  app.add_option("--min-depth", c.min_depth, "ignore depth below, metres")->group(map)->capture_default_str();
-  app.add_option("--max-depth", c.max_depth, "ignore depth beyond, metres")->group(map)->capture_default_str();
-  app.add_option("--color", c.integrate_color, "fuse colour")->group(map)->capture_default_str();
+  const std::string map = "Map";
+  addVolumeOptions(app, c.volume, map);
   app.add_option("--legend", c.legend, "label legend: ade20k, voc, nyu40, synthetic or a YAML file")
       ->group(map)
       ->capture_default_str();
-  app.add_option("--background-labels", c.background_labels,
-                 "label ids that never change a voxel (added to the legend's own)")
-      ->group(map);
 
   auto* files = "Persistence";
   app.add_option("--map", c.map_file, "map file (.vdb): resumed from when it exists, autosaved to")->group(files);
@@ -53,16 +82,17 @@ void addServerOptions(CLI::App& app, ServerConfig& c) {
       ->group(limits)
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
-  app.add_option("--history-frames", c.history_frames, "frames kept for late segmentations")
+  app.add_option("--history-frames", c.fusion.history_frames, "frames kept for late segmentations")
       ->group(limits)
       ->capture_default_str();
-  app.add_option("--history-megabytes", c.history_megabytes, "memory bound of the frame history")
+  app.add_option("--history-megabytes", c.fusion.history_megabytes, "memory bound of the frame history")
       ->group(limits)
       ->capture_default_str();
-  app.add_option("--pending-segmentations", c.pending_segmentations, "segmentations that may wait for their frame")
+  app.add_option("--pending-segmentations", c.fusion.pending_segmentations,
+                 "segmentations that may wait for their frame")
       ->group(limits)
       ->capture_default_str();
-  app.add_option("--pending-timeout", c.pending_timeout_s, "seconds a segmentation waits for its frame")
+  app.add_option("--pending-timeout", c.fusion.pending_timeout_s, "seconds a segmentation waits for its frame")
       ->group(limits)
       ->capture_default_str();
 
@@ -72,10 +102,10 @@ void addServerOptions(CLI::App& app, ServerConfig& c) {
       ->capture_default_str();
 
   auto* queries = "Queries";
-  app.add_option("--max-raycast-pixels", c.max_raycast_pixels, "largest raycast image (width*height)")
+  app.add_option("--max-raycast-pixels", c.queries.max_raycast_pixels, "largest raycast image (width*height)")
       ->group(queries)
       ->capture_default_str();
-  app.add_option("--mesh-chunk-bytes", c.mesh_chunk_bytes, "PLY bytes per mesh reply")
+  app.add_option("--mesh-chunk-bytes", c.queries.mesh_chunk_bytes, "PLY bytes per mesh reply")
       ->group(queries)
       ->capture_default_str();
 
@@ -88,6 +118,32 @@ void addServerOptions(CLI::App& app, ServerConfig& c) {
       ->capture_default_str();
 
   addRosOptions(app, c.ros);
+}
+
+Result<LabelLegend> serverLegend(const ServerConfig& config) {
+  auto legend = resolveLegend(config.legend);
+  if (!legend.ok()) return legend.errorInfo().prefixed("--legend " + config.legend + ": ");
+  LabelLegend result = std::move(legend).value();
+  auto& ids = result.background_ids;
+  ids.insert(ids.end(), config.volume.background_labels.begin(), config.volume.background_labels.end());
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  return result;
+}
+
+Result<volume::VolumeParams> serverVolumeParams(const ServerConfig& config, const LabelLegend& legend) {
+  volume::VolumeParams params = config.volume;
+  const char* rule = volume::labelRuleName(params.label_rule);
+  // The top-5 rules store runners-up in 10 bits: a legend beyond that would lose labels silently.
+  if (volume::usesLabelSidecar(params.label_rule) && legend.maxId() > volume::kMaxRunnerUpLabel)
+    return makeError(ErrorCode::kInvalidArgument, std::string("--label-rule ") + rule + " keeps label ids up to " +
+                                                      std::to_string(volume::kMaxRunnerUpLabel) + ", but legend '" +
+                                                      legend.name + "' has id " + std::to_string(legend.maxId()) +
+                                                      "; use --label-rule evidence");
+  params.label_classes = static_cast<int>(std::clamp<std::size_t>(legend.labels.size(), 2, 65535));
+  params.background_labels = legend.background_ids;
+  if (Status ok = params.validate(); !ok) return ok.errorInfo().prefixed("map parameters: ");
+  return params;
 }
 
 }  // namespace semfuse::server

@@ -1,13 +1,20 @@
 #pragma once
 // Everything the server can be told, with defaults that work for one 640x480 RGB-D camera at
-// room scale. Filled from a YAML file (--config) and command-line flags, flags winning.
+// room scale. Filled from a YAML file (--config) and command-line flags, flags winning. The map's
+// parameters, the fusion loop's and the queries' limits are their users' own structs: their
+// defaults are declared there, and the map's flags come from its field table
+// (volume_param_table.hpp).
 #include <cstdint>
 #include <string>
-#include <vector>
 
 #include <CLI/App.hpp>
 
+#include "fusion_limits.hpp"
+#include "query_limits.hpp"
 #include "ros_config.hpp"
+#include "semfuse/core/legend.hpp"
+#include "semfuse/core/result.hpp"
+#include "semfuse/volume/volume_params.hpp"
 
 namespace semfuse::server {
 
@@ -17,17 +24,10 @@ struct ServerConfig {
   std::string dds_profile;  // Cyclone XML file; else CYCLONEDDS_URI / Cyclone's defaults
   std::string server_id = "semfuse";
 
-  // Map
-  double voxel_size = 0.01;
-  double truncation = 0.04;
-  float max_weight = 64.0f;
-  float max_label_score = 0.0f;      // 0 = the volume library's default W_clamp
-  std::string label_rule = "bayes";  // label fusion rule; the winner of docs/eval (paper's: evidence)
-  float min_depth = 0.1f;
-  float max_depth = 5.0f;
-  bool integrate_color = true;
+  // Map: every volume parameter that has a flag; the label count and the legend's background
+  // labels are filled in from the legend (serverVolumeParams).
+  volume::VolumeParams volume;
   std::string legend = "ade20k";  // built-in name or a YAML legend file
-  std::vector<uint16_t> background_labels;
 
   // Persistence
   std::string map_file;  // resume from it, autosave to it
@@ -35,17 +35,13 @@ struct ServerConfig {
 
   // Ingest limits
   size_t queue_per_camera = 4;
-  size_t history_frames = 120;
-  size_t history_megabytes = 512;
-  size_t pending_segmentations = 64;
-  double pending_timeout_s = 10.0;
+  FusionLimits fusion;
 
   // Tracking
   bool refine_given_poses = false;
 
   // Queries
-  uint32_t max_raycast_pixels = 2048u * 2048u;
-  uint32_t mesh_chunk_bytes = 4u << 20;
+  QueryLimits queries;
 
   // Status
   double status_period_s = 1.0;
@@ -57,5 +53,12 @@ struct ServerConfig {
 
 // Declares every option on `app` (documented for --help), bound to `config`.
 void addServerOptions(CLI::App& app, ServerConfig& config);
+
+// The label legend the server runs with: --legend, with --background-labels added to its own.
+Result<LabelLegend> serverLegend(const ServerConfig& config);
+
+// The volume the server builds: config.volume with the label count and the background labels of
+// `legend` (serverLegend's). Errors name the flag to change.
+Result<volume::VolumeParams> serverVolumeParams(const ServerConfig& config, const LabelLegend& legend);
 
 }  // namespace semfuse::server

@@ -13,18 +13,12 @@
 
 #include "held_meshes.hpp"
 #include "map_access.hpp"
+#include "query_limits.hpp"
 #include "semfuse/core/result.hpp"
 #include "semfuse/core/server_status.hpp"
 #include "semfuse/core/service_types.hpp"
 
 namespace semfuse::server {
-
-// The server's bounds on what one query may ask (ServerConfig: --max-raycast-pixels, --mesh-chunk-bytes).
-struct QueryLimits {
-  uint64_t max_raycast_pixels = 2048u * 2048u;
-  uint32_t mesh_chunk_bytes = 4u << 20;  // at least 1024 are sent per chunk
-  std::size_t max_points = std::size_t{1} << 20;
-};
 
 // Copies the leaves in view under the map's lock (a few ms), then renders the copy without it.
 ServiceReply<RaycastImages> handleRaycast(const RaycastRequest& request, const MapAccess& map,

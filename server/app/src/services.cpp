@@ -37,8 +37,7 @@ Services::Services(const dds::Participant& participant, const ServerConfig& conf
                    ServerState& state, SnapshotFn snapshot, SaveFn save)
     : state_(state), map_(mapper) {
   using namespace std::chrono_literals;
-  limits_.max_raycast_pixels = config.max_raycast_pixels;
-  limits_.mesh_chunk_bytes = config.mesh_chunk_bytes;
+  limits_ = config.queries;
   admin_.map_file = config.map_file;
   admin_.save = std::move(save);
   admin_.load = [&mapper, &fusion](const std::string& path) {

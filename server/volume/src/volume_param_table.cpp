@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <sstream>
+#include <type_traits>
 
 namespace semfuse::volume {
 namespace {
@@ -28,6 +29,27 @@ Status checkParam(const ParamField& field, double value) {
   if (!field.range || field.range->contains(value)) return Status::Ok();
   return makeError(ErrorCode::kInvalidArgument, std::string(field.key) + " must be a finite number " +
                                                     field.range->text() + ", got " + number(value));
+}
+
+std::string volumeParamsText(const VolumeParams& params) {
+  std::ostringstream out;
+  forEachVolumeParam(params, [&out](const ParamField& field, const auto& value) {
+    using T = std::decay_t<decltype(value)>;
+    if (out.tellp() > 0) out << ' ';
+    out << field.key << '=';
+    if constexpr (std::is_same_v<T, LabelRule>) {
+      out << labelRuleName(value);
+    } else if constexpr (std::is_same_v<T, std::vector<LabelId>>) {
+      out << '[';
+      for (std::size_t i = 0; i < value.size(); ++i) out << (i ? " " : "") << value[i];
+      out << ']';
+    } else if constexpr (std::is_same_v<T, bool>) {
+      out << (value ? "true" : "false");
+    } else {
+      out << value;
+    }
+  });
+  return out.str();
 }
 
 }  // namespace semfuse::volume

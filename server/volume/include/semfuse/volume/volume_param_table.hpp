@@ -40,6 +40,10 @@ struct ParamField {
 // range (or not finite); ok for fields without a range.
 Status checkParam(const ParamField& field, double value);
 
+// "voxel_size=0.01 truncation=0.04 ... label_rule=bayes ... background_labels=[] integrate_color=true":
+// every field by key, in table order (for logs, and to compare two VolumeParams).
+std::string volumeParamsText(const VolumeParams& params);
+
 // Calls visit(field, member) for every field of `params` (a VolumeParams, const or not).
 template <class Params, class Visit>
 void forEachVolumeParam(Params& params, Visit&& visit) {
