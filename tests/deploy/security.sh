@@ -34,9 +34,13 @@ launch server as "$work/pki" server "$server_exe" "${dds[@]}" --legend synthetic
 query_status() { as "$work/pki" query "$query_exe" "${dds[@]}" --timeout 3 status --json >"$1" 2>>"$work/logs/query.log"; }
 wait_for 20 query_status "$work/s.json" || fail "no status from the secure server (query identity)"
 
-capture() {  # capture FILE: tcpdump on loopback in the background
+capture() {  # capture FILE DOMAIN: tcpdump of that DDS domain's traffic on loopback, in the background
   command -v tcpdump >/dev/null || return 1
-  tcpdump -i lo -U -s 0 -w "$1" udp >"$work/logs/tcpdump.log" 2>&1 &
+  # Only the domain's own ports (Cyclone's port mapping: 7400 + 250 x domain, then discovery and
+  # up to 60 participants' unicast ports within 250): other processes on this host may send the
+  # same synthetic frames in plaintext on other domains at the same time.
+  local base=$(( 7400 + 250 * $2 ))
+  tcpdump -i lo -U -s 0 -w "$1" udp portrange "$base-$(( base + 249 ))" >"$work/logs/tcpdump.log" 2>&1 &
   capture_pid=$!
   sleep 1
   # Without CAP_NET_RAW tcpdump exits at once: no capture, not a failure of the encryption.
@@ -56,7 +60,7 @@ grep -qi "security\|not allowed" "$work/logs/wrong-role.log" || fail "the wrong-
 
 # --- the permitted camera, captured --------------------------------------------------------------------
 captured=0
-capture "$work/secure.pcap" && captured=1
+capture "$work/secure.pcap" "$domain" && captured=1
 as "$work/pki" camera "$camera_exe" "${dds[@]}" "${camera_args[@]}" --camera-id permitted --wait-server 20 \
   >"$work/logs/permitted.log" 2>&1 || fail "the permitted camera failed"
 stop_capture
@@ -74,7 +78,7 @@ else
   plain_domain=$(( domain + 1 ))
   CYCLONEDDS_URI="file://$source_dir/deploy/dds/localhost.xml" launch plain-server "$server_exe" --domain-id "$plain_domain" \
     --legend synthetic --voxel-size 0.04 --truncation 0.16
-  capture "$work/plain.pcap" || fail "tcpdump captured the secure run but not the plaintext one"
+  capture "$work/plain.pcap" "$plain_domain" || fail "tcpdump captured the secure run but not the plaintext one"
   CYCLONEDDS_URI="file://$source_dir/deploy/dds/localhost.xml" "$camera_exe" --domain-id "$plain_domain" "${camera_args[@]}" \
     --camera-id permitted --wait-server 20 >"$work/logs/plain-camera.log" 2>&1 || fail "the plaintext camera failed"
   stop_capture
