@@ -1,26 +1,19 @@
 #include "semfuse/wire/reply_status.hpp"
 
+#include "semfuse/core/service_types.hpp"
 #include "srv.h"
 
 namespace semfuse::wire {
 
-int32_t replyStatusOf(ErrorCode code) {
-  switch (code) {
-    case ErrorCode::kInvalidArgument:
-    case ErrorCode::kNoPose:
-      return semfuse_srv_dds__Status_Constants_INVALID_ARGUMENT;
-    case ErrorCode::kNotFound:
-      return semfuse_srv_dds__Status_Constants_NOT_FOUND;
-    case ErrorCode::kTooLarge:
-      return semfuse_srv_dds__Status_Constants_TOO_LARGE;
-    case ErrorCode::kUnavailable:
-      return semfuse_srv_dds__Status_Constants_UNAVAILABLE;
-    case ErrorCode::kUnspecified:
-    case ErrorCode::kInternal:
-      break;
-  }
-  return semfuse_srv_dds__Status_Constants_INTERNAL;
-}
+// The reply codes of the handlers are the wire's statuses, value for value.
+static_assert(static_cast<int32_t>(ReplyCode::kOk) == semfuse_srv_dds__Status_Constants_OK);
+static_assert(static_cast<int32_t>(ReplyCode::kInvalidArgument) == semfuse_srv_dds__Status_Constants_INVALID_ARGUMENT);
+static_assert(static_cast<int32_t>(ReplyCode::kNotFound) == semfuse_srv_dds__Status_Constants_NOT_FOUND);
+static_assert(static_cast<int32_t>(ReplyCode::kUnavailable) == semfuse_srv_dds__Status_Constants_UNAVAILABLE);
+static_assert(static_cast<int32_t>(ReplyCode::kInternal) == semfuse_srv_dds__Status_Constants_INTERNAL);
+static_assert(static_cast<int32_t>(ReplyCode::kTooLarge) == semfuse_srv_dds__Status_Constants_TOO_LARGE);
+
+int32_t replyStatusOf(ErrorCode code) { return static_cast<int32_t>(replyCodeOf(code)); }
 
 ErrorCode errorCodeOfReplyStatus(int32_t status) {
   switch (status) {

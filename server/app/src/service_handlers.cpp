@@ -13,8 +13,6 @@
 #include "semfuse/render/mesh.hpp"
 #include "semfuse/render/ply_writer.hpp"
 #include "semfuse/render/raycast.hpp"
-#include "semfuse/wire/reply_status.hpp"
-#include "semfuse/wire/validation.hpp"
 
 namespace semfuse::server {
 namespace {
@@ -42,7 +40,7 @@ ServiceReply<RaycastImages> handleRaycast(const RaycastRequest& request, const M
                                                    std::to_string(intrinsics.height) + " exceeds the limit of " +
                                                    std::to_string(limits.max_raycast_pixels) +
                                                    " pixels (--max-raycast-pixels)");
-  if (Status ok = checkIntrinsics(intrinsics, wire::kMaxImageSide); !ok)
+  if (Status ok = checkIntrinsics(intrinsics, kMaxImageSide); !ok)
     return refuse<Reply>(ReplyCode::kInvalidArgument, ok.error());
   if (Status ok = checkRigidPose(request.camera_to_world); !ok)
     return refuse<Reply>(ReplyCode::kInvalidArgument, ok.error());
@@ -167,7 +165,7 @@ ServiceReply<ServerStatus> handleAdmin(const AdminRequest& request, const AdminA
   }
   ServiceReply<ServerStatus> reply;
   if (!result.ok()) {
-    reply.code = static_cast<ReplyCode>(wire::replyStatusOf(result.errorCode()));
+    reply.code = replyCodeOf(result.errorCode());
     reply.message = result.error();
     actions.failed(result.errorInfo());
   } else {

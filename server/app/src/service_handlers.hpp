@@ -41,7 +41,7 @@ struct AdminActions {
   // Records a command that failed, before the reply takes the status (which then shows it).
   std::function<void(const Error& error)> failed;
 };
-// A command that fails gets the reply status of its error's code (wire/reply_status.hpp: a map
+// A command that fails gets the reply code of its error's code (replyCodeOf: a map
 // file that is not there NOT_FOUND, an incompatible or damaged one INVALID_ARGUMENT, a busy fusion
 // thread UNAVAILABLE); the reply carries the status all the same.
 ServiceReply<ServerStatus> handleAdmin(const AdminRequest& request, const AdminActions& actions);

@@ -5,6 +5,7 @@
 // never refused in another. Callers put their context in front ("raycast ", "TUM RGB-D "); the
 // messages start with what is wrong: "intrinsics: ..." or "pose: ...". Failures are
 // ErrorCode::kInvalidArgument.
+#include <cstdint>
 #include <limits>
 
 #include "semfuse/core/result.hpp"
@@ -18,6 +19,9 @@ inline constexpr double kRotationTolerance = 1e-3;
 
 // No limit on the image side (the wire sets one to bound what a message can allocate).
 inline constexpr int kAnyImageSide = std::numeric_limits<int>::max();
+
+// Largest image side a message or a query may carry: bounds every allocation a message can cause.
+inline constexpr uint32_t kMaxImageSide = 8192;
 
 // Focal lengths finite and > 0, principal point finite: the projection alone, for intrinsics
 // read before the image size is known (a 7-Scenes camera-intrinsics.txt).

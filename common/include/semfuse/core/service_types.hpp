@@ -14,6 +14,7 @@
 
 #include "semfuse/core/legend.hpp"
 #include "semfuse/core/raycast_layers.hpp"
+#include "semfuse/core/result.hpp"
 #include "semfuse/core/server_status.hpp"
 #include "semfuse/core/types.hpp"
 
@@ -28,6 +29,11 @@ enum class ReplyCode : int32_t {
   kInternal = 4,         // the server failed
   kTooLarge = 5,         // beyond the server's limits
 };
+
+// The non-OK reply code for an error of `code`. Codes with no reply code of their own go to the
+// nearest one: kNoPose to kInvalidArgument, kUnspecified to kInternal (an unclassified failure of
+// the server). Both the server's handlers and the wire (wire/reply_status.hpp) use this one mapping.
+ReplyCode replyCodeOf(ErrorCode code);
 
 // A service's answer: a code, a message (why, when it failed; what was done, for admin) and the
 // value. A failed reply leaves the value as it is by default, except where a service says

@@ -2,7 +2,7 @@
 // Checks that turn a malformed message into a precise error. Each names the field (`what`,
 // e.g. "depth") and the measured numbers, so a rejected sample in the server's status says
 // exactly what the sender got wrong. Cameras (intrinsics, poses) are checked by
-// semfuse/core/camera_check.hpp, with kMaxImageSide as the limit on the wire.
+// semfuse/core/camera_check.hpp, with its kMaxImageSide as the limit on the wire.
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -10,14 +10,12 @@
 
 #include <opencv2/core/mat.hpp>
 
+#include "semfuse/core/camera_check.hpp"
 #include "semfuse/core/legend.hpp"
 #include "semfuse/core/result.hpp"
 #include "semfuse/core/types.hpp"
 
 namespace semfuse::wire {
-
-// Largest accepted image side: bounds every allocation a message can cause.
-inline constexpr uint32_t kMaxImageSide = 8192;
 
 // "depth: image size 0x480 is empty" / "depth: image size 9000x480 exceeds the 8192-pixel limit".
 Status validateImageSize(const std::string& what, int64_t width, int64_t height, uint32_t max_side = kMaxImageSide);
