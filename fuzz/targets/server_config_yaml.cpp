@@ -1,5 +1,5 @@
 // Fuzz target: semfuse-server's YAML config file (--config FILE): the server's own options
-// (server/app/src/server_config.cpp) on a CLI11 app with semfuse::YamlConfig, parsed as the
+// (server/core/src/server_config.cpp) on a CLI11 app with semfuse::YamlConfig, parsed as the
 // server parses it. Malformed input must end as a CLI11 parse error, never anything else.
 #include <cstddef>
 #include <cstdint>

@@ -2,7 +2,7 @@
 // 1 labels_at, 2 region, 3 objects, 4 mesh), the rest is its request's CDR as the RpcServer
 // receives it. The request then goes the server's way, minus DDS: the service's codec decodes it
 // (common/wire/service_codecs.hpp), the server's own handler answers it
-// (server/app/src/service_handlers.cpp) on a small labeled map, and the codec encodes the reply.
+// (server/core/src/service_handlers.cpp) on a small labeled map, and the codec encodes the reply.
 #include <cstddef>
 #include <cstdint>
 #include <memory>

@@ -1,4 +1,4 @@
-// The query services' handlers (server/app/src/service_handlers.*), called as the DDS adapter
+// The query services' handlers (server/core/src/service_handlers.*), called as the DDS adapter
 // calls them but without DDS: on a small map of two labeled walls (label 5 at 1.0 m on the left
 // of the camera, label 9 at 1.5 m on the right, voxels of 5 cm), what each answers and what it
 // refuses, with which code and message.

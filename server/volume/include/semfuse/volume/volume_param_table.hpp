@@ -2,7 +2,7 @@
 // The one list of VolumeParams' fields. Each row names a field once: its key (the member's name,
 // and "semfuse:<key>" in map files), the server's flag and YAML key, the --help text, the range a
 // numeric value must lie in, and the map format version that first stored it. From this list come
-// the server's flags and config keys (server/app/src/server_config.cpp), the per-field checks of
+// the server's flags and config keys (server/core/src/server_config.cpp), the per-field checks of
 // VolumeParams::validate() and the map files' metadata (map_file.cpp). The defaults are the
 // member initializers of VolumeParams (volume_params.hpp), nowhere else.
 //
