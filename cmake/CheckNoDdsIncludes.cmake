@@ -1,0 +1,32 @@
+# cmake -DSOURCE_DIR=<dir> -DIDL_DIR=<idl/> -P CheckNoDdsIncludes.cmake
+# Fails when a C++ file under SOURCE_DIR includes a DDS header: Cyclone's (dds/...), semfuse's
+# DDS wrappers (semfuse/dds/...), the wire codecs (semfuse/wire/..., which use the generated
+# types) or a header idlc generates from idl/ (msg.h, srv.h, sensor_msgs.h, ...).
+if(NOT SOURCE_DIR OR NOT IDL_DIR)
+  message(FATAL_ERROR "usage: cmake -DSOURCE_DIR=<dir> -DIDL_DIR=<idl dir> -P CheckNoDdsIncludes.cmake")
+endif()
+file(GLOB_RECURSE idl_files ${IDL_DIR}/*.idl)
+set(generated "")
+foreach(idl IN LISTS idl_files)
+  get_filename_component(stem ${idl} NAME_WE)
+  list(APPEND generated ${stem})
+endforeach()
+list(JOIN generated "|" generated)
+set(forbidden "^[ \t]*#[ \t]*include[ \t]*[<\"](dds/|semfuse/dds/|semfuse/wire/|(${generated})\\.h[>\"])")
+
+file(GLOB_RECURSE sources ${SOURCE_DIR}/*.cpp ${SOURCE_DIR}/*.hpp ${SOURCE_DIR}/*.h)
+set(found "")
+foreach(source IN LISTS sources)
+  file(STRINGS ${source} lines REGEX "^[ \t]*#[ \t]*include")
+  foreach(line IN LISTS lines)
+    if(line MATCHES "${forbidden}")
+      file(RELATIVE_PATH name ${SOURCE_DIR} ${source})
+      string(APPEND found "\n  ${name}: ${line}")
+    endif()
+  endforeach()
+endforeach()
+if(found)
+  message(FATAL_ERROR "${SOURCE_DIR} must build without DDS, but includes DDS headers:${found}")
+endif()
+list(LENGTH sources count)
+message(STATUS "${count} files under ${SOURCE_DIR} include no DDS header")
