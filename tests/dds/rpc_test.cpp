@@ -1,8 +1,10 @@
 // Request/reply: replies reach only the client that asked, a missing server is a clear error,
-// and a handler that throws still answers with INTERNAL and the exception text.
+// a handler that throws still answers with INTERNAL and the exception text, and a request still
+// waiting when the server stops is answered UNAVAILABLE.
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <future>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -112,6 +114,48 @@ TEST_F(Rpc, HandlerStatusAndSequenceNumbersPassThrough) {
   EXPECT_EQ(rejected.value()->sequence_number_, 2);
   server.stop();
   EXPECT_GE(server.served(), 2u);
+}
+
+// The server stops while it handles one request and another waits behind it: the first is
+// finished and answered, the second answered UNAVAILABLE at once, not left to the client's timeout.
+TEST_F(Rpc, ARequestWaitingWhenTheServerStopsIsAnsweredUnavailable) {
+  std::promise<void> release;
+  std::shared_future<void> released = release.get_future().share();
+  std::promise<void> started;
+  int handled = 0;
+  RpcServer<ObjectsRequest, ObjectsReply> server(server_side, service, [&](const ObjectsRequest&, ObjectsReply&) {
+    if (++handled == 1) {
+      started.set_value();
+      released.wait();
+    }
+  });
+  constexpr auto kTimeout = 10s;
+  auto call = [&] {
+    RpcClient<ObjectsRequest, ObjectsReply> client(client_side, service);
+    Sample<ObjectsRequest> request;
+    const auto start = std::chrono::steady_clock::now();
+    auto reply = client.call(*request, kTimeout);
+    return std::make_pair(std::move(reply), std::chrono::steady_clock::now() - start);
+  };
+  auto first = std::async(std::launch::async, call);
+  ASSERT_EQ(started.get_future().wait_for(kTimeout), std::future_status::ready);
+  auto second = std::async(std::launch::async, call);
+  std::this_thread::sleep_for(600ms);  // the second request (or its resend) reaches the server
+  auto stopping = std::async(std::launch::async, [&] { server.stop(); });
+  std::this_thread::sleep_for(100ms);
+  release.set_value();
+  ASSERT_EQ(stopping.wait_for(kTimeout), std::future_status::ready);
+
+  auto [first_reply, first_time] = first.get();
+  ASSERT_TRUE(first_reply.ok()) << first_reply.error();
+  EXPECT_TRUE(replyOk(*first_reply.value()));
+  auto [second_reply, second_time] = second.get();
+  ASSERT_TRUE(second_reply.ok()) << second_reply.error();
+  EXPECT_EQ(second_reply.value()->status, semfuse_srv_dds__Status_Constants_UNAVAILABLE);
+  EXPECT_EQ(replyMessage(*second_reply.value()), "the service is shutting down");
+  EXPECT_EQ(second_reply.value()->sequence_number_, 1);
+  EXPECT_LT(second_time, 5s);
+  EXPECT_EQ(handled, 1);
 }
 
 }  // namespace

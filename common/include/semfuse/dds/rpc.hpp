@@ -5,6 +5,7 @@
 // topic, so a client keeps only replies with its own guid and the sequence number it waits for.
 #include <atomic>
 #include <chrono>
+#include <cstddef>
 #include <cstdint>
 #include <exception>
 #include <functional>
@@ -125,7 +126,8 @@ class RpcClient {
 
 // Serves one service on its own thread: each request goes to the handler, and every request
 // gets a reply. The reply's header is copied from the request and its status is OK unless the
-// handler sets another; a handler that throws produces an INTERNAL reply with the exception text.
+// handler sets another; a handler that throws produces an INTERNAL reply with the exception text;
+// a request still waiting when the server stops gets UNAVAILABLE.
 template <class Request, class Reply>
 class RpcServer {
  public:
@@ -152,11 +154,19 @@ class RpcServer {
   RpcServer(const RpcServer&) = delete;
   RpcServer& operator=(const RpcServer&) = delete;
 
-  // Finishes the request in progress, then returns; later requests go unanswered.
+  // Finishes the request in progress, answers the requests already received with UNAVAILABLE
+  // ("the service is shutting down") instead of handling them, and returns: a client waiting in
+  // line hears at once instead of at its timeout. Requests that arrive later go unanswered.
   void stop() {
     if (!thread_.joinable()) return;
     stop_.trigger();
     thread_.join();
+    // Bounded, so that clients that keep sending cannot hold the stop.
+    for (std::size_t i = 0; i < kRefusedAtStop; ++i) {
+      auto request = reader_.take();
+      if (!request) break;
+      handle(**request, /*stopping=*/true);
+    }
   }
 
   // Replies written, resent ones included.
@@ -167,6 +177,7 @@ class RpcServer {
   // How long a reply waits for the client's reply reader to be discovered (see reply()).
   static constexpr dds_duration_t kReplyPathWait = DDS_SECS(2);
   static constexpr std::size_t kRememberedClients = 4096;
+  static constexpr std::size_t kRefusedAtStop = 256;
 
  private:
   // "rq/semfuse/raycastRequest" -> "sf-rpc-raycast": the service's name, as short as Linux needs.
@@ -190,7 +201,7 @@ class RpcServer {
 
   // A resent request (see RpcClient) gets the reply already sent for it, written again (the
   // first one may have been lost to discovery); an overtaken one gets nothing.
-  void handle(const Request& request) {
+  void handle(const Request& request, bool stopping = false) {
     // Bounded: forgetting old clients only means a very late duplicate is answered twice.
     if (answered_.size() > kRememberedClients) answered_.clear();
     auto it = answered_.find(request.client_guid_);
@@ -198,7 +209,7 @@ class RpcServer {
       if (request.sequence_number_ == it->second.sequence) send(*it->second.reply);
       return;
     }
-    Sample<Reply> answer = reply(request);
+    Sample<Reply> answer = stopping ? refusal(request) : reply(request);
     send(*answer);
     answered_.insert_or_assign(request.client_guid_, Answered{request.sequence_number_, std::move(answer)});
   }
@@ -226,6 +237,14 @@ class RpcServer {
       reply.clear();
       setReplyStatus(*reply, semfuse_srv_dds__Status_Constants_INTERNAL, "request failed: unknown exception");
     }
+    reply->client_guid_ = request.client_guid_;
+    reply->sequence_number_ = request.sequence_number_;
+    return reply;
+  }
+
+  static Sample<Reply> refusal(const Request& request) {
+    Sample<Reply> reply;
+    setReplyStatus(*reply, semfuse_srv_dds__Status_Constants_UNAVAILABLE, "the service is shutting down");
     reply->client_guid_ = request.client_guid_;
     reply->sequence_number_ = request.sequence_number_;
     return reply;
