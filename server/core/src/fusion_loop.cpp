@@ -28,10 +28,25 @@ void FusionLoop::start() {
   });
 }
 
+void FusionLoop::closeTasks() {
+  std::lock_guard lock(inbox_mutex_);
+  taking_tasks_ = false;
+}
+
 void FusionLoop::stop() {
-  if (!running_.exchange(false)) return;
-  frames_.wake();
-  if (thread_.joinable()) thread_.join();
+  closeTasks();
+  if (running_.exchange(false)) {
+    frames_.wake();
+    if (thread_.joinable()) thread_.join();  // its last turn runs the tasks posted before closeTasks
+  }
+  std::vector<Task> never_run;
+  {
+    std::lock_guard lock(inbox_mutex_);
+    never_run.swap(tasks_);
+  }
+  for (auto& task : never_run)
+    task.done.set_value(
+        makeError(ErrorCode::kUnavailable, "the server is shutting down (the fusion thread is not running)"));
 }
 
 void FusionLoop::submitSegmentation(Segmentation segmentation) {
@@ -43,11 +58,12 @@ void FusionLoop::submitSegmentation(Segmentation segmentation) {
 }
 
 Status FusionLoop::runOnFusionThread(std::function<Status()> task, std::chrono::milliseconds timeout) {
-  std::packaged_task<Status()> packaged(std::move(task));
-  auto result = packaged.get_future();
+  std::future<Status> result;
   {
     std::lock_guard lock(inbox_mutex_);
-    tasks_.push_back(std::move(packaged));
+    if (!taking_tasks_) return makeError(ErrorCode::kUnavailable, "the server is shutting down");
+    tasks_.push_back({std::move(task), {}});
+    result = tasks_.back().done.get_future();
   }
   frames_.wake();
   if (result.wait_for(timeout) != std::future_status::ready)
@@ -62,6 +78,12 @@ size_t FusionLoop::historyFrames() const { return history_size_.load(); }
 bool FusionLoop::idle() const {
   std::lock_guard lock(inbox_mutex_);
   return inbox_.empty() && tasks_.empty() && frames_.size() == 0 && !busy_.load();
+}
+
+void FusionLoop::drain(std::chrono::milliseconds timeout) const {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  while (running_ && !idle() && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
 }
 
 void FusionLoop::run() {
@@ -85,17 +107,22 @@ void FusionLoop::run() {
     history_size_ = history_.size();
     busy_ = false;
   }
-  runTasks();  // nobody waits forever on a task posted during shutdown
+  runTasks();  // the tasks posted before closeTasks(); later ones were refused
 }
 
 void FusionLoop::runTasks() {
-  std::vector<std::packaged_task<Status()>> tasks;
+  std::vector<Task> tasks;
   {
     std::lock_guard lock(inbox_mutex_);
     tasks.swap(tasks_);
+    if (!tasks.empty()) busy_ = true;  // idle() is false while they run
   }
   for (auto& task : tasks) {
-    task();
+    try {
+      task.done.set_value(task.run());
+    } catch (...) {
+      task.done.set_exception(std::current_exception());  // rethrown to the caller, as it would be there
+    }
     // A load or reset invalidates every frame the history holds and every waiting segmentation.
     history_.clear();
     for (auto& waiting : pending_.expire(PendingSegmentations::Clock::time_point::max()))

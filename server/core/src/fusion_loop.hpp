@@ -31,17 +31,25 @@ class FusionLoop {
   ~FusionLoop();
 
   void start();
+  // Stops taking tasks (runOnFusionThread answers UNAVAILABLE at once from now on); the tasks
+  // already posted still run. The first step of stop(), and of the server's stop sequence.
+  void closeTasks();
+  // closeTasks, then the thread runs what was posted and ends. A task it never ran (the loop was
+  // not started) is answered UNAVAILABLE: nobody waits out a timeout for a thread that is gone.
   void stop();
 
   // From any thread: a decoded, validated segmentation to apply.
   void submitSegmentation(Segmentation segmentation);
 
-  // Runs `task` on the fusion thread between two frames and returns its result.
+  // Runs `task` on the fusion thread between two frames and returns its result; UNAVAILABLE when
+  // the thread did not run it within `timeout`, and at once when the loop no longer takes tasks.
   Status runOnFusionThread(std::function<Status()> task, std::chrono::milliseconds timeout);
 
   size_t pendingSegmentations() const;
   size_t historyFrames() const;
-  bool idle() const;  // no queued frame, no queued segmentation, nothing in progress
+  bool idle() const;  // no queued frame, no queued segmentation or task, nothing in progress
+  // Waits until idle(), at most `timeout`; returns at once when the thread does not run.
+  void drain(std::chrono::milliseconds timeout) const;
 
  private:
   void run();
@@ -62,9 +70,15 @@ class FusionLoop {
   std::atomic<size_t> pending_size_{0};
   std::atomic<bool> busy_{false};
 
+  struct Task {
+    std::function<Status()> run;
+    std::promise<Status> done;
+  };
+
   mutable std::mutex inbox_mutex_;
   std::vector<Segmentation> inbox_;
-  std::vector<std::packaged_task<Status()>> tasks_;
+  std::vector<Task> tasks_;
+  bool taking_tasks_ = true;  // under inbox_mutex_; false from closeTasks() on
 
   std::atomic<bool> running_{false};
   std::thread thread_;

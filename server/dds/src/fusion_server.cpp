@@ -81,12 +81,33 @@ FusionServer::FusionServer(ServerConfig config)
       [this](const std::string& path) { return saveMap(path); });
 }
 
-FusionServer::~FusionServer() {
-  // Order matters: no new input, no queries, then the fusion thread.
-  services_.reset();
+FusionServer::~FusionServer() { stop(); }
+
+// Why this order:
+// 1. Input first: the DDS and ROS 2 readers stop, so nothing new enters the queues or the inbox
+//    while the fusion thread drains them.
+// 2. The fusion thread takes no more admin tasks: a load or reset that comes in from now on gets
+//    UNAVAILABLE at once ("shutting down"); one already posted still runs. Were tasks taken until
+//    the thread ends, one posted just after would never run, and its service thread, which the
+//    services' stop below joins, would wait out its 60 s timeout. A load or reset at this point
+//    would also change the map the final save writes under the client's feet.
+// 3. The fusion thread finishes the queued frames, segmentations and tasks (at most 5 s) and
+//    ends. The services keep answering queries meanwhile.
+// 4. The services stop: each finishes the request in hand (none can be waiting on the fusion
+//    thread any more) and answers those still waiting UNAVAILABLE (dds::RpcServer::stop).
+// run() then saves the map and publishes a last status; the DDS entities (writers, topics,
+// participant) go last, as members, after everything that writes with them has stopped.
+void FusionServer::stop() {
+  if (stopped_) return;
+  stopped_ = true;
   if (ingest_) ingest_->stop();
   if (ros_ingest_) ros_ingest_->stop();
-  if (fusion_) fusion_->stop();
+  if (fusion_) {
+    fusion_->closeTasks();
+    fusion_->drain(std::chrono::seconds(5));
+    fusion_->stop();
+  }
+  services_.reset();
 }
 
 int FusionServer::run() {
@@ -123,11 +144,7 @@ int FusionServer::run() {
   }
 
   spdlog::info("shutting down: finishing queued frames");
-  ingest_->stop();
-  if (ros_ingest_) ros_ingest_->stop();
-  for (int i = 0; i < 200 && !fusion_->idle(); ++i) std::this_thread::sleep_for(25ms);
-  fusion_->stop();
-  services_.reset();
+  stop();
   int exit_code = 0;
   if (!config_.map_file.empty()) {
     if (Status saved = saveMap(config_.map_file); !saved) exit_code = 1;

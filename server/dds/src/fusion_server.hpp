@@ -28,14 +28,16 @@ class FusionServer {
   explicit FusionServer(ServerConfig config);
   ~FusionServer();
 
-  // Serves until requestStop() (e.g. from a signal handler thread), then shuts down: stops
-  // ingest, lets the fusion thread finish the queued frames, saves the map.
+  // Serves until requestStop() (e.g. from a signal handler thread), then runs the stop sequence
+  // (stop()), saves the map and publishes a last status. Returns 1 when that save fails.
   int run();
   void requestStop() { stop_requested_ = true; }
 
   ServerStatus snapshot() const;
 
  private:
+  // The stop sequence, for run() and the destructor alike; the second call does nothing.
+  void stop();
   void publishStatus();
   void publishPose(const Frame& frame, const FrameOutcome& outcome);
   Status saveMap(const std::string& path);
@@ -43,6 +45,7 @@ class FusionServer {
   ServerConfig config_;
   std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
   std::atomic<bool> stop_requested_{false};
+  bool stopped_ = false;  // stop() ran (main thread only)
 
   LabelLegend legend_;
   dds::Participant participant_;
