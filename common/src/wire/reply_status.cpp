@@ -5,14 +5,7 @@
 
 namespace semfuse::wire {
 
-// The reply codes of the handlers are the wire's statuses, value for value.
-static_assert(static_cast<int32_t>(ReplyCode::kOk) == semfuse_srv_dds__Status_Constants_OK);
-static_assert(static_cast<int32_t>(ReplyCode::kInvalidArgument) == semfuse_srv_dds__Status_Constants_INVALID_ARGUMENT);
-static_assert(static_cast<int32_t>(ReplyCode::kNotFound) == semfuse_srv_dds__Status_Constants_NOT_FOUND);
-static_assert(static_cast<int32_t>(ReplyCode::kUnavailable) == semfuse_srv_dds__Status_Constants_UNAVAILABLE);
-static_assert(static_cast<int32_t>(ReplyCode::kInternal) == semfuse_srv_dds__Status_Constants_INTERNAL);
-static_assert(static_cast<int32_t>(ReplyCode::kTooLarge) == semfuse_srv_dds__Status_Constants_TOO_LARGE);
-
+// ReplyCode's values are the statuses' (asserted in service_codec_support.hpp).
 int32_t replyStatusOf(ErrorCode code) { return static_cast<int32_t>(replyCodeOf(code)); }
 
 ErrorCode errorCodeOfReplyStatus(int32_t status) {
