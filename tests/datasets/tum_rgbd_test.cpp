@@ -84,9 +84,26 @@ TEST_F(TumFolder, AssociatesByNearestTimeAndScalesDepthBy5000) {
   EXPECT_EQ(second.value().stamp.nanosec, 33000000u);
   ASSERT_TRUE(second.value().camera_to_world.has_value());
   const Pose& pose = *second.value().camera_to_world;
+  // Only the sample at 100.035 is within 20 ms of depth 1 (100.033): that sample, as it is.
   EXPECT_TRUE(pose.translation().isApprox(Eigen::Vector3d(1.5, -2, 0.25)));
   // Rotation of +90 degrees about z maps x to y.
   EXPECT_TRUE((pose.linear() * Eigen::Vector3d::UnitX()).isApprox(Eigen::Vector3d::UnitY(), 1e-9));
+}
+
+TEST_F(TumFolder, GroundTruthIsInterpolatedBetweenTheSamplesAroundTheDepthStamp) {
+  writeImages(cv::Size(64, 48));
+  // Depth 1 at 100.033 lies 8 ms after the first sample and 12 ms before the second: 0.4 of the way.
+  writeText("groundtruth.txt",
+            "100.025 0 0 0 0 0 0 1\n"
+            "100.045 1.5 -2 0.25 0 0 0.7071067811865476 0.7071067811865476\n");
+  auto reader = TumRgbdReader::open(dir_, {"tum", PinholeIntrinsics{64, 48, 50, 50, 32, 24}});
+  ASSERT_TRUE(reader.ok()) << reader.error();
+  ASSERT_TRUE(reader.value().entry(1).camera_to_world.has_value());
+  const Pose& pose = *reader.value().entry(1).camera_to_world;
+  EXPECT_TRUE(pose.translation().isApprox(0.4 * Eigen::Vector3d(1.5, -2, 0.25), 1e-9));
+  const Eigen::AngleAxisd turn(pose.linear());
+  EXPECT_NEAR(turn.angle(), 0.4 * M_PI / 2, 1e-9);
+  EXPECT_TRUE(turn.axis().isApprox(Eigen::Vector3d::UnitZ(), 1e-9));
 }
 
 TEST_F(TumFolder, WithoutGroundTruthFramesHaveNoPose) {

@@ -178,6 +178,9 @@ inline void fill(semfuse_msg_dds__CameraState_& m, Filler& f) {
   m.frame_rate_hz = f.f32();
   m.last_frame_age_s = f.f32();
   m.stale = true;
+  f.string(m.lost_reason, "reason");
+  m.frames_since_lost = f.u64();
+  m.relocalisations = f.u64();
 }
 inline void fill(semfuse_msg_dds__ErrorEntry_& m, Filler& f) {
   fill(m.stamp, f);

@@ -192,6 +192,7 @@ const char* kStatus =
     "cameras[0].last_seq=99\ncameras[0].frames_received=100\ncameras[0].frames_integrated=97\ncameras[0].frames_lost="
     "1\n"
     "cameras[0].frame_rate_hz=29.5\ncameras[0].last_frame_age_s=0.25\ncameras[0].stale=false\n"
+    "cameras[0].lost_reason=\"too few inliers\"\ncameras[0].frames_since_lost=3\ncameras[0].relocalisations=2\n"
     "last_errors[0].stamp.sec=3\nlast_errors[0].stamp.nanosec=4\nlast_errors[0].source=\"ingest\"\n"
     "last_errors[0].message=\"depth: unknown encoding 'rgb16'\"\nmap_file=\"/tmp/map.vdb\"\nlast_save_ok=true\n"
     "last_save_age_s=1.5\n";
@@ -267,6 +268,9 @@ TEST_F(FoxgloveInterop, SemfuseMessagesFromTheMsgFilesAgreeFieldForField) {
         ASSERT_EQ(m.cameras._length, 1u);
         EXPECT_EQ(m.cameras._buffer[0].tracking_state, 1);
         EXPECT_FLOAT_EQ(m.cameras._buffer[0].frame_rate_hz, 29.5f);
+        EXPECT_EQ(str(m.cameras._buffer[0].lost_reason), "too few inliers");
+        EXPECT_EQ(m.cameras._buffer[0].frames_since_lost, 3u);
+        EXPECT_EQ(m.cameras._buffer[0].relocalisations, 2u);
         ASSERT_EQ(m.last_errors._length, 1u);
         EXPECT_EQ(str(m.last_errors._buffer[0].message), "depth: unknown encoding 'rgb16'");
         EXPECT_EQ(m.allocated_voxels, 123456789012ull);

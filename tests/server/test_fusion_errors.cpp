@@ -49,7 +49,7 @@ void waitIdle(const FusionLoop& loop) {
 
 }  // namespace
 
-TEST(FusionErrors, FirstFrameWithoutPoseIsCountedAsSuchOtherFailuresAsIntegrationFailures) {
+TEST(FusionErrors, MalformedFramesAreIntegrationFailuresAnUnplacedCameraIsLostNotRejected) {
   Mapper mapper(mapperOptions());
   FrameQueue frames(4);
   ServerState state;
@@ -57,9 +57,10 @@ TEST(FusionErrors, FirstFrameWithoutPoseIsCountedAsSuchOtherFailuresAsIntegratio
   loop.start();
   ASSERT_FALSE(frames.push(wallFrame("a", 1, true)));
   waitIdle(loop);
-  // A second camera whose first frame carries no pose cannot be placed in the map's world frame.
+  // A second camera without poses that sees only a wall: no keyframe alignment can place it (a
+  // plane leaves the pose along it free), so its frame is lost, counted, and not integrated.
   ASSERT_FALSE(frames.push(wallFrame("b", 1, false)));
-  // A frame whose depth does not match its intrinsics fails for another reason.
+  // A frame whose depth does not match its intrinsics is refused as malformed.
   Frame mismatched = wallFrame("c", 1, true);
   mismatched.depth = cv::Mat(kHeight / 2, kWidth / 2, CV_32FC1, cv::Scalar(1.5f));
   ASSERT_FALSE(frames.push(mismatched));
@@ -67,20 +68,27 @@ TEST(FusionErrors, FirstFrameWithoutPoseIsCountedAsSuchOtherFailuresAsIntegratio
   loop.stop();
 
   EXPECT_EQ(state.frames_integrated.load(), 1u);
-  EXPECT_EQ(state.rejected.get(reason::kNoPose, "b"), 1u);
   EXPECT_EQ(state.rejected.get(reason::kIntegrationFailed, "b"), 0u);
+  EXPECT_EQ(state.dropped.get(reason::kTrackingLost, "b"), 1u);
   EXPECT_EQ(state.rejected.get(reason::kIntegrationFailed, "c"), 1u);
-  EXPECT_EQ(state.rejected.get(reason::kNoPose, "c"), 0u);
+  const auto cameras = state.cameras();
+  ASSERT_EQ(cameras.count("b"), 1u);
+  EXPECT_EQ(cameras.at("b").frames_lost, 1u);
+  EXPECT_EQ(cameras.at("b").frames_since_lost, 1u);
+  EXPECT_EQ(cameras.at("b").relocalisations, 0u);
+  EXPECT_FALSE(cameras.at("b").lost_reason.empty());
 }
 
-TEST(FusionErrors, MapperGivesTheNoPoseCodeOnlyOnceTheMapHasAWorldFrame) {
+TEST(FusionErrors, MapperNeverPlacesASecondPoselessCameraAtAGuess) {
   Mapper mapper(mapperOptions());
   // The first camera of an empty map defines the world frame: no pose needed.
   ASSERT_TRUE(mapper.integrateFrame(wallFrame("a", 1, false)).ok());
   auto second = mapper.integrateFrame(wallFrame("b", 1, false));
-  ASSERT_FALSE(second.ok());
-  EXPECT_EQ(second.errorCode(), ErrorCode::kNoPose);
-  EXPECT_NE(second.error(), "");
+  ASSERT_TRUE(second.ok()) << second.error();
+  EXPECT_FALSE(second.value().integrated);
+  EXPECT_EQ(second.value().pose_state, PoseState::kLost);
+  EXPECT_NE(second.value().lost_reason, "");
+  EXPECT_EQ(second.value().frames_since_lost, 1u);
 }
 
 TEST(FusionErrors, AdminLoadFailuresCarryTheCodeTheServiceRepliesWith) {

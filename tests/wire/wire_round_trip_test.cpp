@@ -191,7 +191,8 @@ ServerStatus testStatus() {
   s.allocated_blocks = 4321;
   s.map_bytes = 987654321;
   s.rss_bytes = 1ull << 31;
-  s.cameras = {{"cam0", 1, 1000, 1000, 990, 3, 29.5F, 0.25F, false}, {"cam1", 3, 8, 9, 0, 9, 0.0F, 12.0F, true}};
+  s.cameras = {{"cam0", 1, 1000, 1000, 990, 3, 29.5F, 0.25F, false, "", 0, 2},
+               {"cam1", 3, 8, 9, 0, 9, 0.0F, 12.0F, true, "not placed in the map yet", 9, 0}};
   s.last_errors = {{12.5, "query raycast", "layers must be ..."}, {13.0, "admin", "disk full"}};
   s.map_file = "/var/lib/semfuse/map.vdb";
   s.last_save_ok = true;
@@ -239,6 +240,9 @@ void expectSameStatus(const ServerStatus& in, const ServerStatus& out) {
     EXPECT_EQ(b.frame_rate_hz, a.frame_rate_hz);
     EXPECT_EQ(b.last_frame_age_s, a.last_frame_age_s);
     EXPECT_EQ(b.stale, a.stale);
+    EXPECT_EQ(b.lost_reason, a.lost_reason);
+    EXPECT_EQ(b.frames_since_lost, a.frames_since_lost);
+    EXPECT_EQ(b.relocalisations, a.relocalisations);
   }
   ASSERT_EQ(out.last_errors.size(), in.last_errors.size());
   for (size_t i = 0; i < in.last_errors.size(); ++i) {

@@ -5,7 +5,6 @@ namespace semfuse {
 ReplyCode replyCodeOf(ErrorCode code) {
   switch (code) {
     case ErrorCode::kInvalidArgument:
-    case ErrorCode::kNoPose:
       return ReplyCode::kInvalidArgument;
     case ErrorCode::kNotFound:
       return ReplyCode::kNotFound;

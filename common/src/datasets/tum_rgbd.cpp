@@ -109,6 +109,28 @@ std::optional<std::size_t> nearestInTime(const std::vector<T>& sorted, double ti
   return best;
 }
 
+// The ground-truth pose at `time`: interpolated between the samples on either side when both are
+// within `window` seconds (translation linearly, rotation by slerp; the motion-capture rate is
+// ~100 Hz against the camera's 30 Hz, so a nearest sample would be up to 5 ms off), else the
+// nearest sample within the window, else none.
+std::optional<Pose> poseAt(const std::vector<TimedPose>& sorted, double time, double window) {
+  auto after = std::lower_bound(sorted.begin(), sorted.end(), time,
+                                [](const TimedPose& item, double t) { return item.time < t; });
+  if (after != sorted.end() && after != sorted.begin()) {
+    const TimedPose& before = *std::prev(after);
+    if (time - before.time <= window && after->time - time <= window && after->time > before.time) {
+      const double f = (time - before.time) / (after->time - before.time);
+      const Eigen::Quaterniond q0(before.pose.linear()), q1(after->pose.linear());
+      Pose pose = Pose::Identity();
+      pose.linear() = q0.slerp(f, q1).normalized().toRotationMatrix();
+      pose.translation() = (1.0 - f) * before.pose.translation() + f * after->pose.translation();
+      return pose;
+    }
+  }
+  if (const auto nearest = nearestInTime(sorted, time, window)) return sorted[*nearest].pose;
+  return std::nullopt;
+}
+
 }  // namespace
 
 std::optional<PinholeIntrinsics> tumFreiburgIntrinsics(int freiburg_number) {
@@ -169,9 +191,7 @@ Result<TumRgbdReader> TumRgbdReader::open(const fs::path& folder, TumRgbdOptions
     if (!color_index) continue;
     const TimedFile& color = color_list.value()[*color_index];
     Entry entry{depth.time, depth.file, color.time, color.file, std::nullopt};
-    if (const auto pose_index = nearestInTime(poses, depth.time, window)) {
-      entry.camera_to_world = poses[*pose_index].pose;
-    }
+    entry.camera_to_world = poseAt(poses, depth.time, window);
     reader.entries_.push_back(std::move(entry));
   }
   if (reader.entries_.empty()) {

@@ -56,6 +56,7 @@ Qos frames() { return std::move(Qos().reliable(kMaxBlockingTime).keepLast(2).vol
 Qos frameIngest() { return std::move(Qos().reliable(kMaxBlockingTime).keepLast(8).volatileDurability()); }
 Qos segmentations() { return std::move(Qos().reliable(kMaxBlockingTime).keepLast(8).volatileDurability()); }
 Qos poses() { return std::move(Qos().reliable(kMaxBlockingTime).keepLast(10).volatileDurability()); }
+Qos poseRecording() { return std::move(Qos().reliable(kMaxBlockingTime).keepLast(1000).volatileDurability()); }
 Qos status() { return std::move(Qos().reliable(kMaxBlockingTime).keepLast(1).transientLocal()); }
 Qos legend() { return std::move(Qos().reliable(kMaxBlockingTime).keepLast(1).transientLocal()); }
 Qos service() { return std::move(Qos().reliable(kMaxBlockingTime).keepLast(10).volatileDurability()); }

@@ -69,6 +69,9 @@ void encodeServerStatus(const ServerStatus& s, Stamp stamp, semfuse_msg_dds__Ser
     c.frame_rate_hz = a.frame_rate_hz;
     c.last_frame_age_s = a.last_frame_age_s;
     c.stale = a.stale;
+    dds::setString(c.lost_reason, a.lost_reason);
+    c.frames_since_lost = a.frames_since_lost;
+    c.relocalisations = a.relocalisations;
   }
   dds::resizeSequence(out.last_errors, s.last_errors.size());
   for (size_t i = 0; i < s.last_errors.size(); ++i) {
@@ -115,7 +118,8 @@ Result<ServerStatus> decodeServerStatus(const semfuse_msg_dds__ServerStatus_& ms
   for (uint32_t i = 0; i < msg.cameras._length; ++i) {
     const auto& c = msg.cameras._buffer[i];
     s.cameras.push_back({stringOf(c.camera_id), c.tracking_state, c.last_seq, c.frames_received, c.frames_integrated,
-                         c.frames_lost, c.frame_rate_hz, c.last_frame_age_s, c.stale});
+                         c.frames_lost, c.frame_rate_hz, c.last_frame_age_s, c.stale, stringOf(c.lost_reason),
+                         c.frames_since_lost, c.relocalisations});
   }
   if (Status ok = validateSequence("status last_errors", msg.last_errors._length, msg.last_errors._maximum,
                                    msg.last_errors._buffer);

@@ -143,8 +143,7 @@ void FusionLoop::processFrame(Frame frame) {
   }
   auto outcome = mapper_.integrateFrame(frame, same_pass);
   if (!outcome.ok()) {
-    const bool no_pose = outcome.errorCode() == ErrorCode::kNoPose;
-    state_.reject(no_pose ? reason::kNoPose : reason::kIntegrationFailed, frame.camera_id,
+    state_.reject(reason::kIntegrationFailed, frame.camera_id,
                   "frame " + frame.camera_id + "/" + std::to_string(frame.seq), outcome.error());
     // Remember the frame so its segmentations are rejected at once instead of waiting.
     history_.add({frame.camera_id, frame.seq, false, frame.intrinsics, cv::Mat(), Pose::Identity()});
@@ -161,7 +160,8 @@ void FusionLoop::processFrame(Frame frame) {
     spdlog::warn("camera {} frame {}: tracking lost ({}), not integrated", frame.camera_id, frame.seq,
                  result.lost_reason);
   }
-  state_.frameProcessed(frame.camera_id, result.integrated, tracking_state);
+  state_.frameProcessed(frame.camera_id, {result.integrated, tracking_state, result.lost_reason,
+                                          result.frames_since_lost, result.relocalisations});
   if (on_frame_) on_frame_(frame, result);
 
   HistoryEntry entry{frame.camera_id,

@@ -13,8 +13,18 @@ double millisecondsSince(std::chrono::steady_clock::time_point start) {
 }
 }  // namespace
 
+namespace {
+tracking::TrackerConfig trackerConfig(const MapperOptions& options) {
+  tracking::TrackerConfig config;
+  config.alignment = options.tracker;
+  config.given_pose =
+      options.refine_given_poses ? tracking::GivenPosePolicy::kRefine : tracking::GivenPosePolicy::kUseAsIs;
+  return config;
+}
+}  // namespace
+
 Mapper::Mapper(MapperOptions options)
-    : options_(std::move(options)), tracker_(options_.tracker), volume_(options_.volume) {}
+    : options_(std::move(options)), tracker_(trackerConfig(options_)), volume_(options_.volume) {}
 
 namespace {
 PoseState poseStateOf(tracking::TrackingStatus status) {
@@ -25,6 +35,7 @@ PoseState poseStateOf(tracking::TrackingStatus status) {
     case tracking::TrackingStatus::kRefined:
       return PoseState::kRefined;
     case tracking::TrackingStatus::kTracked:
+    case tracking::TrackingStatus::kRelocalised:
       return PoseState::kTracked;
     case tracking::TrackingStatus::kLost:
       break;
@@ -34,34 +45,15 @@ PoseState poseStateOf(tracking::TrackingStatus status) {
 }  // namespace
 
 Result<tracking::TrackedFrame> Mapper::choosePose(const Frame& frame, FrameOutcome& outcome) {
-  auto known = cameras_.find(frame.camera_id);
-  if (known == cameras_.end() && !frame.camera_to_world) {
-    // The first frame of an empty map defines the world frame; any later camera must say where
-    // it is, or its frames could never be placed consistently with the rest of the map.
-    bool map_empty = false;
-    {
-      std::shared_lock lock(mutex_);
-      map_empty = volume_.framesIntegrated() == 0;
-    }
-    if (!map_empty || !cameras_.empty())
-      return makeError(ErrorCode::kNoPose, "camera '" + frame.camera_id +
-                                               "': first frame has no pose, and the map already has a world frame; "
-                                               "send the first frame of a new camera with its camera_to_world pose");
-  }
-  // Work on a copy: a frame the tracker rejects as malformed must leave the camera's state alone.
-  tracking::CameraTrackState state = known == cameras_.end() ? tracking::CameraTrackState{} : known->second;
-  const auto policy =
-      options_.refine_given_poses ? tracking::GivenPosePolicy::kRefine : tracking::GivenPosePolicy::kUseAsIs;
   const auto start = std::chrono::steady_clock::now();
   Result<tracking::TrackedFrame> tracked = tracking::TrackedFrame{};
   {
     std::shared_lock lock(mutex_);
     tracking::VolumeField field(volume_);
-    tracked = tracking::trackFrame(tracker_, frame, field, state, policy);
+    tracked = tracker_.track(frame, field, volume_.framesIntegrated() == 0);
   }
   outcome.track_ms = millisecondsSince(start);
   if (!tracked.ok()) return tracked;
-  cameras_[frame.camera_id] = state;
 
   const tracking::TrackedFrame& t = tracked.value();
   outcome.pose_state = poseStateOf(t.status);
@@ -70,6 +62,9 @@ Result<tracking::TrackedFrame> Mapper::choosePose(const Frame& frame, FrameOutco
   outcome.residual = static_cast<float>(t.quality.rms_residual_m);
   outcome.iterations = static_cast<uint32_t>(t.quality.iterations);
   if (!t.shouldIntegrate()) outcome.lost_reason = tracking::toString(t.lost_reason);
+  const tracking::CameraTrackingSummary summary = tracker_.camera(frame.camera_id);
+  outcome.frames_since_lost = summary.frames_since_lost;
+  outcome.relocalisations = summary.relocalisations;
   return tracked;
 }
 
@@ -92,6 +87,7 @@ Result<FrameOutcome> Mapper::integrateFrame(const Frame& frame, const Segmentati
   if (!stats.ok()) return stats.errorInfo();
   outcome.stats = stats.value();
   outcome.integrated = true;
+  tracker_.integrated(frame, tracked.value());
   return outcome;
 }
 
@@ -128,7 +124,7 @@ Status Mapper::load(const std::filesystem::path& path) {
                          "' (start it with --label-rule " + volume::labelRuleName(params.label_rule) + ")");
   std::unique_lock lock(mutex_);
   volume_ = std::move(loaded.value().volume);
-  cameras_.clear();  // tracking restarts from the poses the next frames carry
+  tracker_.reset();  // tracking restarts from the poses the next frames carry
   ++revision_;
   return Status::Ok();
 }
@@ -136,7 +132,7 @@ Status Mapper::load(const std::filesystem::path& path) {
 void Mapper::reset() {
   std::unique_lock lock(mutex_);
   volume_.clear();
-  cameras_.clear();
+  tracker_.reset();
   ++revision_;
 }
 

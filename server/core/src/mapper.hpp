@@ -18,8 +18,7 @@
 #include "semfuse/core/legend.hpp"
 #include "semfuse/core/result.hpp"
 #include "semfuse/core/types.hpp"
-#include "semfuse/tracking/camera_tracking.hpp"
-#include "semfuse/tracking/sdf_tracker.hpp"
+#include "semfuse/tracking/tracker.hpp"
 #include "semfuse/volume/integrator.hpp"
 #include "semfuse/volume/labeled_volume.hpp"
 #include "semfuse/volume/map_file.hpp"
@@ -36,6 +35,10 @@ struct FrameOutcome {
   double track_ms = 0.0;
   double integrate_ms = 0.0;
   std::string lost_reason;  // why tracking gave up (pose_state == kLost)
+  // The camera's tracking after this frame: frames the current loss has lasted (0 while
+  // tracking) and times a keyframe found it again or placed it.
+  uint64_t frames_since_lost = 0;
+  uint64_t relocalisations = 0;
   volume::IntegrationStats stats;
 };
 
@@ -50,9 +53,9 @@ class Mapper {
  public:
   explicit Mapper(MapperOptions options);
 
-  // Fusion thread only. Errors: bad input (sizes, intrinsics), or ErrorCode::kNoPose for a camera
-  // whose first frame has no pose while the map already has content (it could not be placed in
-  // the world frame).
+  // Fusion thread only. Errors: bad input (sizes, intrinsics, a pose that is not rigid). A frame
+  // the tracker cannot place (lost, or a pose-less camera no keyframe has placed yet) is no error:
+  // the outcome says it was not integrated and why.
   Result<FrameOutcome> integrateFrame(const Frame& frame, const Segmentation* segmentation = nullptr);
   Result<volume::IntegrationStats> integrateSegmentation(const HistoryEntry& frame, const Segmentation& segmentation);
 
@@ -91,15 +94,14 @@ class Mapper {
   uint64_t revision() const;
 
  private:
-  // Decides the frame's pose (tracking::trackFrame's per-camera policy) and fills `outcome`.
+  // Decides the frame's pose (tracking::Tracker) and fills `outcome`.
   Result<tracking::TrackedFrame> choosePose(const Frame& frame, FrameOutcome& outcome);
 
   MapperOptions options_;
-  tracking::SdfTracker tracker_;  // fusion thread only: keeps its buffers between frames
+  tracking::Tracker tracker_;  // fusion thread only
   mutable std::shared_mutex mutex_;
   volume::LabeledVolume volume_;
-  std::map<std::string, tracking::CameraTrackState> cameras_;  // fusion thread only
-  uint64_t revision_ = 0;                                      // guarded by mutex_
+  uint64_t revision_ = 0;  // guarded by mutex_
 
   mutable std::mutex snapshot_mutex_;  // one copy at a time; guards the two below
   mutable std::shared_ptr<const volume::LabeledVolume> snapshot_;

@@ -33,11 +33,14 @@ void ServerState::frameArrived(const std::string& camera_id, uint64_t seq, Clock
   touch();
 }
 
-void ServerState::frameProcessed(const std::string& camera_id, bool integrated, uint8_t tracking_state) {
+void ServerState::frameProcessed(const std::string& camera_id, const FrameResult& result) {
   std::lock_guard lock(mutex_);
   CameraActivity& camera = cameras_[camera_id];
-  camera.tracking_state = tracking_state;
-  if (integrated) ++camera.frames_integrated;
+  camera.tracking_state = result.tracking_state;
+  camera.lost_reason = result.lost_reason;
+  camera.frames_since_lost = result.frames_since_lost;
+  camera.relocalisations = result.relocalisations;
+  if (result.integrated) ++camera.frames_integrated;
   else ++camera.frames_lost;
   touch();
 }

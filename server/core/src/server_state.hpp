@@ -29,13 +29,24 @@ inline constexpr const char* kLabelOutOfLegend = "label_out_of_legend";
 inline constexpr const char* kUnknownCamera = "unknown_camera";
 inline constexpr const char* kUnknownFrame = "unknown_frame";  // evicted, lost, or never seen
 inline constexpr const char* kSizeMismatch = "size_mismatch";  // segmentation larger than frame
-inline constexpr const char* kNoPose = "first_frame_without_pose";
 inline constexpr const char* kIntegrationFailed = "integration_failed";
 inline constexpr const char* kInvalidQuery = "invalid_query";  // a query the server refused
 }  // namespace reason
 
+// What the fusion thread made of one frame of a camera.
+struct FrameResult {
+  bool integrated = false;
+  uint8_t tracking_state = 0;  // TrackedPose_Constants
+  std::string lost_reason;     // why tracking is lost; empty while tracking
+  uint64_t frames_since_lost = 0;
+  uint64_t relocalisations = 0;
+};
+
 struct CameraActivity {
   uint8_t tracking_state = 0;  // TrackedPose_Constants
+  std::string lost_reason;
+  uint64_t frames_since_lost = 0;
+  uint64_t relocalisations = 0;
   uint64_t last_seq = 0;
   uint64_t frames_received = 0;
   uint64_t frames_integrated = 0;
@@ -62,7 +73,7 @@ class ServerState {
   void reject(const char* why, const std::string& camera_id, const std::string& source, const std::string& message);
 
   void frameArrived(const std::string& camera_id, uint64_t seq, Clock::time_point now = Clock::now());
-  void frameProcessed(const std::string& camera_id, bool integrated, uint8_t tracking_state);
+  void frameProcessed(const std::string& camera_id, const FrameResult& result);
   std::map<std::string, CameraActivity> cameras() const;
   bool knowsCamera(const std::string& camera_id) const;
   // Changes whenever a counter the status reports changes (for "publish on change").

@@ -228,7 +228,8 @@ ServerStatus FusionServer::snapshot() const {
   for (const auto& [id, a] : state_.cameras()) {
     const float age = static_cast<float>(std::chrono::duration<double>(now - a.last_frame_time).count());
     s.cameras.push_back({id, a.tracking_state, a.last_seq, a.frames_received, a.frames_integrated, a.frames_lost,
-                         static_cast<float>(a.rate_hz), age, age > config_.camera_stale_after_s});
+                         static_cast<float>(a.rate_hz), age, age > config_.camera_stale_after_s, a.lost_reason,
+                         a.frames_since_lost, a.relocalisations});
   }
   for (const auto& e : state_.errors.snapshot())
     s.last_errors.push_back({std::chrono::duration<double>(e.time.time_since_epoch()).count(), e.source, e.message});

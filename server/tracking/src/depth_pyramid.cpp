@@ -7,6 +7,9 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "semfuse/core/camera_check.hpp"
 
 namespace semfuse::tracking {
 
@@ -17,9 +20,7 @@ Status validateDepthImage(const cv::Mat& depth, const PinholeIntrinsics& k) {
   if (depth.cols != k.width || depth.rows != k.height)
     return makeError("depth image is " + std::to_string(depth.cols) + "x" + std::to_string(depth.rows) +
                      " but the intrinsics say " + std::to_string(k.width) + "x" + std::to_string(k.height));
-  if (!(k.fx > 0.0) || !(k.fy > 0.0) || !std::isfinite(k.cx) || !std::isfinite(k.cy))
-    return makeError("intrinsics must have finite fx, fy > 0 and finite cx, cy");
-  return Status::Ok();
+  return checkProjection(k);
 }
 
 namespace {
@@ -53,7 +54,11 @@ void sanitize(const cv::Mat& in, cv::Mat& out, float min_depth, float max_depth)
   });
 }
 
-void downsample(const cv::Mat& fine, cv::Mat& coarse, float merge_relative, float merge_absolute) {
+}  // namespace
+
+void downsampleDepth(const cv::Mat& fine, cv::Mat& coarse, const PyramidParams& params) {
+  const float merge_relative = params.merge_relative;
+  const float merge_absolute = params.merge_absolute_m;
   coarse.create(fine.rows / 2, fine.cols / 2, CV_32FC1);
   tbb::parallel_for(tbb::blocked_range<int>(0, coarse.rows, 8), [&](const tbb::blocked_range<int>& rows) {
     for (int v = rows.begin(); v < rows.end(); ++v) {
@@ -83,15 +88,29 @@ void downsample(const cv::Mat& fine, cv::Mat& coarse, float merge_relative, floa
   });
 }
 
-}  // namespace
-
-Status DepthPyramid::build(const cv::Mat& depth, const PinholeIntrinsics& intrinsics, const PyramidParams& params) {
+Status DepthPyramid::build(const cv::Mat& depth, const cv::Mat& color, const PinholeIntrinsics& intrinsics,
+                           const PyramidParams& params) {
   if (Status status = validate(depth, intrinsics, params); !status) return status;
+  if (!color.empty() && (color.type() != CV_8UC3 || color.size() != depth.size()))
+    return makeError("colour image must be CV_8UC3 RGB of the depth image's size");
   levels_.resize(static_cast<std::size_t>(params.levels));
+  params_ = params;
   levels_[0].intrinsics = intrinsics;
   sanitize(depth, levels_[0].depth, params.min_depth_m, params.max_depth_m);
+  has_intensity_ = !color.empty();
+  if (has_intensity_) {
+    cv::Mat grey;
+    cv::cvtColor(color, grey, cv::COLOR_RGB2GRAY);
+    grey.convertTo(levels_[0].intensity, CV_32F, 1.0 / 255.0);
+    if (params.intensity_blur_px > 0.0f)
+      cv::GaussianBlur(levels_[0].intensity, levels_[0].intensity, cv::Size(), params.intensity_blur_px);
+  } else {
+    for (Level& level : levels_) level.intensity.release();
+  }
   for (std::size_t l = 1; l < levels_.size(); ++l) {
-    downsample(levels_[l - 1].depth, levels_[l].depth, params.merge_relative, params.merge_absolute_m);
+    downsampleDepth(levels_[l - 1].depth, levels_[l].depth, params);
+    if (has_intensity_)
+      cv::resize(levels_[l - 1].intensity, levels_[l].intensity, levels_[l].depth.size(), 0, 0, cv::INTER_AREA);
     levels_[l].intrinsics = levels_[l - 1].intrinsics.scaled(0.5);
     levels_[l].intrinsics.width = levels_[l].depth.cols;
     levels_[l].intrinsics.height = levels_[l].depth.rows;
@@ -114,7 +133,9 @@ void DepthPyramid::backProject(Level& level, std::size_t max_points) {
     while (level.valid_pixels / static_cast<std::size_t>(stride * stride) > max_points) ++stride;
 
   level.points.clear();  // keeps the capacity: no allocation after the first frame
+  level.intensities.clear();
   level.points.reserve(static_cast<std::size_t>(depth.rows) * static_cast<std::size_t>(depth.cols));
+  const bool with_intensity = !level.intensity.empty();
   const PinholeIntrinsics& k = level.intrinsics;
   const float inv_fx = static_cast<float>(1.0 / k.fx);
   const float inv_fy = static_cast<float>(1.0 / k.fy);
@@ -123,11 +144,13 @@ void DepthPyramid::backProject(Level& level, std::size_t max_points) {
   // Offset the grid by half a stride so that subsampled levels do not all hug the top-left edge.
   for (int v = stride / 2; v < depth.rows; v += stride) {
     const float* row = depth.ptr<float>(v);
+    const float* intensity = with_intensity ? level.intensity.ptr<float>(v) : nullptr;
     for (int u = stride / 2; u < depth.cols; u += stride) {
       const float z = row[u];
       if (z <= 0.0f) continue;
       level.points.emplace_back((static_cast<float>(u) - cx) * z * inv_fx, (static_cast<float>(v) - cy) * z * inv_fy,
                                 z);
+      if (with_intensity) level.intensities.push_back(intensity[u]);
     }
   }
 }

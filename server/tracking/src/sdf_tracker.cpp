@@ -29,6 +29,12 @@ const char* toString(LostReason reason) {
       return "degenerate geometry";
     case LostReason::kDiverged:
       return "diverged";
+    case LostReason::kNotPlaced:
+      return "not placed in the map yet";
+    case LostReason::kDisagreesWithMap:
+      return "disagrees with the map";
+    case LostReason::kUnconfirmed:
+      return "relocalised, not confirmed yet";
   }
   return "unknown";
 }
@@ -37,12 +43,15 @@ namespace {
 
 using Samplers = tbb::enumerable_thread_specific<std::unique_ptr<SdfSampler>>;
 
-// Thresholds of one pass, in metres (fractions of the truncation resolved once per frame).
+// Thresholds of one pass, in metres (fractions of the truncation resolved once per frame), and
+// the photometric term's scale.
 struct ResidualModel {
   RobustLoss loss;
   float scale;
   float band;
   float inlier;
+  float color_scale;                                  // Huber scale of intensity residuals; 0 = no photometric term
+  float noise_base, noise_quadratic, noise_multiple;  // depth noise model of the inlier test
 
   float weight(float r) const {
     const float a = std::abs(r);
@@ -50,38 +59,71 @@ struct ResidualModel {
     const float u = r / scale;
     return 1.0f / (1.0f + u * u);
   }
+  float colorWeight(float r) const {
+    const float a = std::abs(r);
+    return a <= color_scale ? 1.0f : color_scale / a;
+  }
 };
 
-// One parallel pass: residuals D(T p) and Jacobians over all points of a level. For a point moved
-// by a left increment, d/dxi D(exp(xi) q) at xi = 0 is grad^T [I | -[q]x] = (grad, q x grad).
-NormalEquations accumulate(const std::vector<Eigen::Vector3f>& points, Samplers& samplers, const ResidualModel& model,
-                           const Pose& pose) {
+// The normal equations of one pass: the depth term and the photometric term apart, so that the
+// depth's own conditioning can be judged and the colour weighted when they are combined.
+struct PassSystems {
+  NormalEquations depth;
+  NormalEquations color;
+  void join(const PassSystems& other) {
+    depth.join(other.depth);
+    color.join(other.color);
+  }
+};
+
+// One parallel pass over all points of a level. For a point moved by a left increment,
+// d/dxi F(exp(xi) q) at xi = 0 is grad^T [I | -[q]x] = (grad, q x grad) for any field F: the
+// TSDF D (residual D(T p), zero on the surface) and the fused intensity C (residual C(T p) - I(p)).
+PassSystems accumulate(const std::vector<Eigen::Vector3f>& points, const std::vector<float>& intensities,
+                       Samplers& samplers, const ResidualModel& model, const Pose& pose) {
   const Eigen::Matrix3f rotation = pose.linear().cast<float>();
   const Eigen::Vector3f translation = pose.translation().cast<float>();
+  const bool photometric = model.color_scale > 0.0f && intensities.size() == points.size();
   return tbb::parallel_reduce(
-      tbb::blocked_range<std::size_t>(0, points.size(), 512), NormalEquations{},
-      [&](const tbb::blocked_range<std::size_t>& range, NormalEquations system) {
+      tbb::blocked_range<std::size_t>(0, points.size(), 512), PassSystems{},
+      [&](const tbb::blocked_range<std::size_t>& range, PassSystems systems) {
         SdfSampler& sampler = *samplers.local();
         SdfSample sample;
         Eigen::Matrix<float, 6, 1> jacobian;
         for (std::size_t i = range.begin(); i != range.end(); ++i) {
           const Eigen::Vector3f q = rotation * points[i] + translation;
-          if (!sampler.sample(q, sample)) continue;  // unobserved: no information
-          ++system.observed;
+          const bool valid = photometric ? sampler.sampleWithIntensity(q, sample) : sampler.sample(q, sample);
+          if (!valid) continue;  // unobserved: no information
+          ++systems.depth.observed;
           const float r = sample.distance;
           if (!(std::abs(r) < model.band)) continue;  // flat truncated region (or NaN)
           if (sample.gradient.squaredNorm() < 1e-12f) continue;
           jacobian.head<3>() = sample.gradient;
           jacobian.tail<3>() = q.cross(sample.gradient);
-          system.add(jacobian, r, model.weight(r));
-          if (std::abs(r) < model.inlier) {
-            ++system.inliers;
-            system.inlier_sq_sum += static_cast<double>(r) * r;
+          systems.depth.add(jacobian, r, model.weight(r));
+          // An inlier lies within what the sensor's noise at that range explains, and at least
+          // within inlier_fraction of the truncation.
+          const float z = points[i].z();
+          const float sigma = model.noise_base + model.noise_quadratic * (z - 0.4f) * (z - 0.4f);
+          const bool inlier = std::abs(r) < std::max(model.inlier, model.noise_multiple * sigma);
+          if (inlier) {
+            ++systems.depth.inliers;
+            systems.depth.inlier_sq_sum += static_cast<double>(r) * r;
           }
+          // Colour only where the point is near the surface: elsewhere the fused colour belongs to
+          // another surface (or to free space, where it was never meant to be compared).
+          if (!photometric || !inlier || !sample.has_intensity) continue;
+          const float rc = sample.intensity - intensities[i];
+          if (!std::isfinite(rc)) continue;
+          jacobian.head<3>() = sample.intensity_gradient;
+          jacobian.tail<3>() = q.cross(sample.intensity_gradient);
+          systems.color.add(jacobian, rc, model.colorWeight(rc));
+          ++systems.color.inliers;
+          systems.color.inlier_sq_sum += static_cast<double>(rc) * rc;
         }
-        return system;
+        return systems;
       },
-      [](NormalEquations a, const NormalEquations& b) {
+      [](PassSystems a, const PassSystems& b) {
         a.join(b);
         return a;
       });
@@ -104,52 +146,102 @@ Status SdfTracker::validate(const TrackerParams& p) {
   return Status::Ok();
 }
 
-Result<Alignment> SdfTracker::align(const cv::Mat& depth, const PinholeIntrinsics& intrinsics, const SdfField& field,
-                                    const Pose& guess) {
+Status SdfTracker::setFrame(const cv::Mat& depth, const cv::Mat& color, const PinholeIntrinsics& intrinsics) {
+  frame_ready_ = false;
   if (Status status = validate(params_); !status) return makeError("tracker parameters: " + status.error());
-  if (!guess.matrix().allFinite()) return makeError("starting pose is not finite");
+  if (Status status = pyramid_.build(depth, color, intrinsics, params_.pyramid); !status) return status;
+  frame_ready_ = true;
+  return Status::Ok();
+}
+
+Result<Alignment> SdfTracker::align(const SdfField& field, const std::vector<Pose>& starts) {
+  if (!frame_ready_) return makeError("no frame to align (setFrame failed or was not called)");
+  if (starts.empty()) return makeError("no starting pose");
+  for (const Pose& start : starts)
+    if (!start.matrix().allFinite()) return makeError("starting pose is not finite");
   const float truncation = field.truncation();
   if (!(truncation > 0.0f) || !std::isfinite(truncation)) return makeError("field truncation must be finite and > 0");
-  if (Status status = pyramid_.build(depth, intrinsics, params_.pyramid); !status) return makeError(status.error());
+  const bool photometric = params_.color_weight > 0.0f && pyramid_.hasIntensity();
 
   Alignment result;
-  result.pose = guess;
+  result.pose = starts.front();
   if (pyramid_.points(0).empty()) {
     result.lost_reason = LostReason::kNoValidDepth;
     return result;
   }
 
-  const ResidualModel model{params_.loss, params_.robust_scale * truncation, params_.band_fraction * truncation,
-                            params_.inlier_fraction * truncation};
+  const ResidualModel model{params_.loss,
+                            params_.robust_scale * truncation,
+                            params_.band_fraction * truncation,
+                            params_.inlier_fraction * truncation,
+                            photometric ? params_.color_robust_scale : 0.0f,
+                            params_.depth_noise_base_m,
+                            params_.depth_noise_quadratic,
+                            params_.inlier_noise_multiple};
   // One sampler per worker thread for the whole frame: the field does not change while aligning.
   Samplers samplers([&field] { return field.makeSampler(); });
+  const double length = std::max(pyramid_.meanDepth(), 0.1);
+  const double color_weight = params_.color_weight;
 
-  Pose pose = guess;
   int iterations = 0;
-  for (int level = pyramid_.levels() - 1; level >= 0; --level) {
+  // Gauss-Newton on one level from `pose`; returns the systems at the last evaluated pose.
+  auto solveLevel = [&](int level, Pose& pose) {
     const std::vector<Eigen::Vector3f>& points = pyramid_.points(level);
+    const std::vector<float>& intensities = pyramid_.intensities(level);
+    PassSystems systems;
     for (int it = 0; it < params_.max_iterations.at(static_cast<std::size_t>(level)); ++it) {
-      const NormalEquations system = accumulate(points, samplers, model, pose);
-      if (system.residuals < 6) break;  // nothing to solve for at this level
-      Matrix6d hessian = system.hessian();
-      hessian.diagonal().array() += params_.damping * hessian.diagonal().mean();
-      const Vector6d step = hessian.ldlt().solve(-system.gradient());
+      systems = accumulate(points, intensities, samplers, model, pose);
+      if (systems.depth.residuals < 6) break;  // nothing to solve for at this level
+      const Matrix6d depth_hessian = systems.depth.hessian();
+      const Matrix6d color_hessian = color_weight * systems.color.hessian();
+      const Vector6d gradient = systems.depth.gradient() + color_weight * systems.color.gradient();
+      int constrained = 0;
+      const Vector6d step = constrainedStep(depth_hessian + color_hessian, gradient,
+                                            balancedConditioning(depth_hessian, color_hessian, length), length,
+                                            params_.solve_rcond, params_.damping, constrained);
       if (!step.allFinite()) break;
       pose = expSE3(step) * pose;
       ++iterations;
       if (step.norm() < params_.convergence_norm) break;
     }
+    return systems;
+  };
+
+  // Every start on the coarsest level; the one with the most inliers there goes on.
+  const int coarsest = pyramid_.levels() - 1;
+  Pose pose = starts.front();
+  std::size_t best_inliers = 0;
+  for (std::size_t k = 0; k < starts.size(); ++k) {
+    Pose candidate = starts[k];
+    solveLevel(coarsest, candidate);
+    const PassSystems at =
+        accumulate(pyramid_.points(coarsest), pyramid_.intensities(coarsest), samplers, model, candidate);
+    if (k == 0 || at.depth.inliers > best_inliers) {
+      best_inliers = at.depth.inliers;
+      pose = candidate;
+      result.quality.start = static_cast<int>(k);
+    }
   }
+  for (int level = coarsest - 1; level >= 0; --level) solveLevel(level, pose);
 
   pose = orthonormalized(pose);  // ~20 float-precision updates leave it slightly off SO(3)
   result.pose = pose;
-  result.quality = assess(accumulate(pyramid_.points(0), samplers, model, pose));
+  const PassSystems final_systems = accumulate(pyramid_.points(0), pyramid_.intensities(0), samplers, model, pose);
+  const int start = result.quality.start;
+  result.quality = assess(final_systems.depth, final_systems.color);
+  result.quality.start = start;
   result.quality.iterations = iterations;
-  result.lost_reason = judge(result.quality, truncation, guess, pose);
+  // Directions that neither depth nor colour constrains well for its own strength.
+  result.quality.constrained_dofs =
+      static_cast<int>(constrainedDirections(balancedConditioning(final_systems.depth.hessian(),
+                                                                  color_weight * final_systems.color.hessian(), length),
+                                             length, params_.min_hessian_rcond)
+                           .cols());
+  result.lost_reason = judge(result.quality, truncation, starts[static_cast<std::size_t>(start)], pose);
   return result;
 }
 
-TrackingQuality SdfTracker::assess(const NormalEquations& system) const {
+TrackingQuality SdfTracker::assess(const NormalEquations& system, const NormalEquations& color) const {
   TrackingQuality q;
   q.points = pyramid_.points(0).size();
   q.inliers = system.inliers;
@@ -157,13 +249,12 @@ TrackingQuality SdfTracker::assess(const NormalEquations& system) const {
   q.observed = system.observed;
   q.observed_agreement = q.observed > 0 ? static_cast<double>(q.inliers) / static_cast<double>(q.observed) : 0.0;
   q.rms_residual_m = q.inliers > 0 ? std::sqrt(system.inlier_sq_sum / static_cast<double>(q.inliers)) : 0.0;
+  q.color_points = color.inliers;
+  q.color_rms = color.inliers > 0 ? std::sqrt(color.inlier_sq_sum / static_cast<double>(color.inliers)) : 0.0;
   if (system.residuals == 0) return q;
-  // Rotational columns of J are (q x grad), metres times the translational ones; scaling them by
-  // 1 / mean depth makes the eigenvalues of both blocks comparable, so the reciprocal condition
-  // measures missing constraints rather than the units.
-  const double length = std::max(pyramid_.meanDepth(), 0.1);
-  Eigen::Matrix<double, 6, 1> scale;
-  scale << 1.0, 1.0, 1.0, 1.0 / length, 1.0 / length, 1.0 / length;
+  // The depth term's own conditioning, with the rotations scaled to metres, so that the
+  // reciprocal condition measures missing constraints rather than the units.
+  const Vector6d scale = depthScaling(std::max(pyramid_.meanDepth(), 0.1));
   const Matrix6d scaled =
       scale.asDiagonal() * system.hessian() * scale.asDiagonal() / static_cast<double>(system.residuals);
   const Eigen::SelfAdjointEigenSolver<Matrix6d> eigen(scaled, Eigen::EigenvaluesOnly);
@@ -176,7 +267,9 @@ TrackingQuality SdfTracker::assess(const NormalEquations& system) const {
 
 LostReason SdfTracker::judge(const TrackingQuality& q, float truncation, const Pose& guess, const Pose& result) const {
   if (q.inliers < params_.min_inliers || q.inlier_ratio < params_.min_inlier_ratio) return LostReason::kTooFewInliers;
-  if (q.hessian_rcond < params_.min_hessian_rcond) return LostReason::kDegenerate;
+  // Depth that constrains only some directions is fine where colour constrains the others (or,
+  // when allowed, the start's values are kept along them).
+  if (q.constrained_dofs < 6 && !params_.accept_partially_constrained) return LostReason::kDegenerate;
   if (q.rms_residual_m > params_.max_rms_fraction * truncation) return LostReason::kHighResidual;
   // In the camera frame, so the translation is how far the camera centre moved (a world-frame
   // difference would grow with the distance from the world origin).

@@ -11,6 +11,10 @@ class VolumeFieldSampler final : public SdfSampler {
   bool sample(const Eigen::Vector3f& world_point, SdfSample& out) override {
     return sampler_.tsdfAndGradient(world_point, out.distance, out.gradient);
   }
+  bool sampleWithIntensity(const Eigen::Vector3f& world_point, SdfSample& out) override {
+    return sampler_.tsdfAndIntensity(world_point, out.distance, out.gradient, out.intensity, out.intensity_gradient,
+                                     out.has_intensity);
+  }
 
  private:
   volume::VolumeSampler sampler_;

@@ -69,6 +69,45 @@ bool VolumeSampler::tsdfAndGradient(const Eigen::Vector3f& world, float& tsdf, E
   return true;
 }
 
+void VolumeSampler::gatherLuma(const openvdb::Coord& base, float luma[8]) {
+  // Rec. 601 luma, the grey level a camera's intensity image has.
+  auto lumaOf = [](PackedColor packed) {
+    const Rgb8 c = unpackColor(packed);
+    return (0.299f * c.r + 0.587f * c.g + 0.114f * c.b) * (1.0f / 255.0f);
+  };
+  using ColorLeaf = ColorGrid::TreeType::LeafNodeType;
+  if ((base.x() & kLeafMask) != kLeafMask && (base.y() & kLeafMask) != kLeafMask &&
+      (base.z() & kLeafMask) != kLeafMask) {
+    if (const ColorLeaf* leaf = color_->probeConstLeaf(base)) {
+      const PackedColor* values = leaf->buffer().data() + ColorLeaf::coordToOffset(base);
+      for (int i = 0; i < 8; ++i) luma[i] = lumaOf(values[kCellCornerOffsets[i]]);
+      return;
+    }
+  }
+  for (int i = 0; i < 8; ++i) luma[i] = lumaOf(color_->getValue(base.offsetBy(i & 1, (i >> 1) & 1, (i >> 2) & 1)));
+}
+
+bool VolumeSampler::tsdfAndIntensity(const Eigen::Vector3f& world, float& tsdf, Eigen::Vector3f& tsdf_gradient,
+                                     float& intensity, Eigen::Vector3f& intensity_gradient, bool& has_intensity) {
+  const Eigen::Vector3f index = world * inv_voxel_size_;
+  const openvdb::Coord base = floorCoord(index);
+  PackedVoxel corners[8];
+  if (!gatherCorners(base, corners)) return false;
+  const float fx = index.x() - base.x(), fy = index.y() - base.y(), fz = index.z() - base.z();
+  float v[8];
+  for (int i = 0; i < 8; ++i) v[i] = unpackTsdf(corners[i]);
+  tsdf = trilinearWithGradient(v, fx, fy, fz, tsdf_gradient);
+  tsdf_gradient *= inv_voxel_size_;
+  has_intensity = color_.has_value();
+  if (has_intensity) {
+    float luma[8];
+    gatherLuma(base, luma);
+    intensity = trilinearWithGradient(luma, fx, fy, fz, intensity_gradient);
+    intensity_gradient *= inv_voxel_size_;
+  }
+  return true;
+}
+
 bool VolumeSampler::nearestVoxel(const Eigen::Vector3f& world, VoxelValue& voxel) {
   const Eigen::Vector3f index = world * inv_voxel_size_ + Eigen::Vector3f::Constant(0.5f);
   const PackedVoxel packed = geometry_.getValue(floorCoord(index));

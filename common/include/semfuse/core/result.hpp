@@ -21,7 +21,6 @@ enum class ErrorCode : uint8_t {
   kTooLarge,         // the input exceeds a configured limit
   kUnavailable,      // not now: busy, shutting down, or no answer in time
   kInternal,         // a fault on the side that answers (I/O, a broken invariant)
-  kNoPose,           // a camera's first frame has no pose while the map already has a world frame
 };
 
 // "unspecified", "invalid_argument", ... for logs and messages.
@@ -39,8 +38,6 @@ inline const char* errorCodeName(ErrorCode code) {
       return "unavailable";
     case ErrorCode::kInternal:
       return "internal";
-    case ErrorCode::kNoPose:
-      return "no_pose";
   }
   return "unknown";
 }

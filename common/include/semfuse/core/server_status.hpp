@@ -23,6 +23,9 @@ struct CameraStatus {
   float frame_rate_hz = 0.0F;
   float last_frame_age_s = 0.0F;
   bool stale = false;
+  std::string lost_reason;  // why tracking is lost now; empty while tracking or with given poses
+  uint64_t frames_since_lost = 0;
+  uint64_t relocalisations = 0;  // times a keyframe found the camera again (or placed it)
 };
 
 struct ServerError {

@@ -30,9 +30,9 @@ enum class ReplyCode : int32_t {
   kTooLarge = 5,         // beyond the server's limits
 };
 
-// The non-OK reply code for an error of `code`. Codes with no reply code of their own go to the
-// nearest one: kNoPose to kInvalidArgument, kUnspecified to kInternal (an unclassified failure of
-// the server). Both the server's handlers and the wire (wire/reply_status.hpp) use this one mapping.
+// The non-OK reply code for an error of `code`. A code with no reply code of its own goes to the
+// nearest one: kUnspecified to kInternal (an unclassified failure of the server). Both the server's handlers and the
+// wire (wire/reply_status.hpp) use this one mapping.
 ReplyCode replyCodeOf(ErrorCode code);
 
 // A service's answer: a code, a message (why, when it failed; what was done, for admin) and the

@@ -5,7 +5,8 @@
 //   depth/*.png                16-bit, 5000 units per metre, 0 = invalid
 // Each depth image is paired with the colour image nearest in time, within max_time_difference_s;
 // a depth image without such a partner is skipped (as TUM's associate.py does). The pose is the
-// ground-truth sample nearest in time within the same window, or none.
+// ground truth interpolated to the depth image's time stamp from the samples on either side
+// within the same window (or the nearest sample within it, or none).
 #include <cstddef>
 #include <filesystem>
 #include <optional>

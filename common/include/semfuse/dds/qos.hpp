@@ -44,10 +44,13 @@ Qos frames();  // reliable, keep-last 2, volatile: a late frame is worth less th
 Qos frameIngest();
 Qos segmentations();  // reliable, keep-last 8: segmenters run behind the camera
 Qos poses();          // reliable, keep-last 10
-Qos status();         // reliable, transient-local, keep-last 1: late joiners get the latest
-Qos legend();         // reliable, transient-local, keep-last 1
-Qos service();        // reliable, keep-last 10, volatile: rmw's default for services
-Qos sensorData();     // best-effort, keep-last 5, volatile: ROS 2 sensor-data profile
+// A reader that records trajectories: reliable, keep-last 1000, so that one who takes the poses
+// now and then (every second at 30 Hz from several cameras) misses none.
+Qos poseRecording();
+Qos status();      // reliable, transient-local, keep-last 1: late joiners get the latest
+Qos legend();      // reliable, transient-local, keep-last 1
+Qos service();     // reliable, keep-last 10, volatile: rmw's default for services
+Qos sensorData();  // best-effort, keep-last 5, volatile: ROS 2 sensor-data profile
 
 }  // namespace qos
 }  // namespace semfuse::dds

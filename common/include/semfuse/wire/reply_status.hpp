@@ -9,8 +9,8 @@
 namespace semfuse::wire {
 
 // The non-OK status for an error of `code`: replyCodeOf (semfuse/core/service_types.hpp), whose
-// codes are the statuses' values. Codes the wire has no status for go to the nearest one: kNoPose
-// to INVALID_ARGUMENT, kUnspecified to INTERNAL (an unclassified failure of the server).
+// codes are the statuses' values. A code the wire has no status for goes to the nearest one:
+// kUnspecified to INTERNAL (an unclassified failure of the server).
 int32_t replyStatusOf(ErrorCode code);
 
 // The code of a non-OK status; a status this build does not know (a newer server) is kUnspecified.

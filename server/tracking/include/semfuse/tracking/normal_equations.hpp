@@ -5,7 +5,9 @@
 #include <array>
 #include <cstddef>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <Eigen/Eigenvalues>
 
 #include "semfuse/tracking/se3.hpp"
 
@@ -53,5 +55,63 @@ struct NormalEquations {
 
   Vector6d gradient() const { return Eigen::Map<const Vector6d>(jtr.data()); }
 };
+
+// Rotational columns of a pose Jacobian are (q x grad), metres times the translational ones;
+// scaling them by 1 / length (the mean scene depth) makes the eigenvalues of both blocks
+// comparable, so that conditioning measures missing constraints rather than units.
+inline Vector6d depthScaling(double length) {
+  Vector6d scale;
+  scale << 1.0, 1.0, 1.0, 1.0 / length, 1.0 / length, 1.0 / length;
+  return scale;
+}
+
+// The directions (in depth-scaled coordinates) that `conditioning` constrains: eigenvectors with
+// more than rcond x its largest eigenvalue, as columns.
+inline Eigen::Matrix<double, 6, Eigen::Dynamic> constrainedDirections(const Matrix6d& conditioning, double length,
+                                                                      double rcond) {
+  const Vector6d scale = depthScaling(length);
+  const Eigen::SelfAdjointEigenSolver<Matrix6d> eigen(scale.asDiagonal() * conditioning * scale.asDiagonal());
+  const double largest = eigen.eigenvalues()(5);
+  int count = 0;
+  for (int k = 0; k < 6; ++k) count += largest > 0.0 && eigen.eigenvalues()(k) > rcond * largest;
+  Eigen::Matrix<double, 6, Eigen::Dynamic> directions(6, count);
+  for (int k = 6 - count, c = 0; k < 6; ++k, ++c) directions.col(c) = eigen.eigenvectors().col(k);
+  return directions;
+}
+
+// Each term's normal matrix divided by its largest depth-scaled eigenvalue, summed: a direction
+// is well conditioned here when any one term constrains it well for that term, however much
+// stronger the other term is overall (colour gradients are tens of times depth gradients).
+inline Matrix6d balancedConditioning(const Matrix6d& a, const Matrix6d& b, double length) {
+  const Vector6d scale = depthScaling(length);
+  auto normalised = [&](const Matrix6d& m) -> Matrix6d {
+    const Eigen::SelfAdjointEigenSolver<Matrix6d> eigen(scale.asDiagonal() * m * scale.asDiagonal(),
+                                                        Eigen::EigenvaluesOnly);
+    const double largest = eigen.eigenvalues()(5);
+    return largest > 0.0 ? Matrix6d(m / largest) : Matrix6d(Matrix6d::Zero());
+  };
+  return normalised(a) + normalised(b);
+}
+
+// Gauss-Newton step of hessian x = -gradient restricted to the directions `conditioning`
+// constrains (see constrainedDirections): along the others the pose keeps its starting value.
+// `constrained` receives how many directions were solved for.
+inline Vector6d constrainedStep(const Matrix6d& hessian, const Vector6d& gradient, const Matrix6d& conditioning,
+                                double length, double rcond, double damping, int& constrained) {
+  const Vector6d scale = depthScaling(length);
+  const Eigen::Matrix<double, 6, Eigen::Dynamic> basis = constrainedDirections(conditioning, length, rcond);
+  constrained = static_cast<int>(basis.cols());
+  if (constrained == 0) return Vector6d::Zero();
+  const Matrix6d scaled = scale.asDiagonal() * hessian * scale.asDiagonal();
+  Eigen::MatrixXd reduced = basis.transpose() * scaled * basis;
+  reduced.diagonal().array() += damping * reduced.diagonal().maxCoeff();
+  const Eigen::VectorXd rhs = -(basis.transpose() * (scale.asDiagonal() * gradient));
+  const Eigen::VectorXd y = reduced.ldlt().solve(rhs);
+  return scale.asDiagonal() * (basis * y);
+}
+inline Vector6d constrainedStep(const Matrix6d& hessian, const Vector6d& gradient, double length, double rcond,
+                                double damping, int& constrained) {
+  return constrainedStep(hessian, gradient, hessian, length, rcond, damping, constrained);
+}
 
 }  // namespace semfuse::tracking

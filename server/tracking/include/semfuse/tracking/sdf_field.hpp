@@ -9,10 +9,14 @@
 namespace semfuse::tracking {
 
 // Truncated signed distance at a world point (metres, positive in front of the surface) and its
-// spatial gradient.
+// spatial gradient; with sampleWithIntensity(), also the fused surface colour's intensity (0..1)
+// and its gradient, where the field keeps colour.
 struct SdfSample {
   float distance = 0.0f;
   Eigen::Vector3f gradient = Eigen::Vector3f::Zero();
+  bool has_intensity = false;
+  float intensity = 0.0f;
+  Eigen::Vector3f intensity_gradient = Eigen::Vector3f::Zero();
 };
 
 // Reads the field. Not thread-safe: each thread uses its own sampler (a sampler may cache tree
@@ -23,6 +27,11 @@ class SdfSampler {
   // False where the field was never observed (no weight): such points carry no information and
   // the tracker ignores them.
   virtual bool sample(const Eigen::Vector3f& world_point, SdfSample& out) = 0;
+  // The same, plus the intensity where the field has colour (out.has_intensity).
+  virtual bool sampleWithIntensity(const Eigen::Vector3f& world_point, SdfSample& out) {
+    out.has_intensity = false;
+    return sample(world_point, out);
+  }
 };
 
 class SdfField {

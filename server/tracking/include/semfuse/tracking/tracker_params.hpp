@@ -28,9 +28,31 @@ struct TrackerParams {
   // field is flat (no gradient) and tells nothing about where the surface is.
   float band_fraction = 0.95f;
   float inlier_fraction = 0.5f;  // |D| below this x truncation counts as an inlier
+  // ... or below inlier_noise_multiple x the depth noise at the point's range, which grows with
+  // the square of the range: sigma(z) = base + quadratic (z - 0.4 m)^2 (structured-light sensors,
+  // Nguyen, Izadi and Lovell 2012: ~2 mm at 1 m, ~14 mm at 3 m).
+  float depth_noise_base_m = 0.0012f;
+  float depth_noise_quadratic = 0.0019f;
+  float inlier_noise_multiple = 2.5f;
   // Levenberg damping added to the Hessian diagonal, relative to its mean; keeps a nearly
   // degenerate step bounded (the quality checks below still flag the frame).
   double damping = 1e-4;
+  // Directions of the (depth-scaled) Hessian with less than this fraction of its largest
+  // eigenvalue are left where the starting guess put them instead of being solved for: a plane
+  // or a corridor constrains only some degrees of freedom, and a step along the others would be
+  // noise.
+  double solve_rcond = 1e-3;
+  // Whether a frame whose depth and colour together leave some directions unconstrained (below
+  // min_hessian_rcond) is still trusted, with the start's values along those directions.
+  bool accept_partially_constrained = false;
+
+  // Photometric term: the frame's intensity against the fused colour of the map at the same
+  // point, added to the depth term with this weight (metres^2 per intensity^2: a residual of
+  // 0.1 in intensity costs as much as sqrt(weight) * 0.1 m of depth). 0 = depth only. Colour
+  // holds the pose where the depth alone slides (planes, fast motion); 0.1 is the best of
+  // 0.03-1 on freiburg1_xyz (semfuse-bench track --color-weight).
+  float color_weight = 0.1f;
+  float color_robust_scale = 0.1f;  // Huber scale of the intensity residual (intensity 0..1)
 
   // A frame is LOST, and must not be integrated, below any of these.
   double min_inlier_ratio = 0.3;   // inliers / valid points of the finest level

@@ -31,6 +31,12 @@ class VolumeSampler {
     return tsdfAndGradient(Eigen::Vector3f(world.cast<float>()), tsdf, gradient);
   }
 
+  // The TSDF and its gradient as above, plus the trilinearly interpolated intensity of the fused
+  // colour (luma of the voxels' RGB, 0..1) and its gradient (per metre). has_intensity is false
+  // when the volume keeps no colour; the return value is the TSDF's validity.
+  bool tsdfAndIntensity(const Eigen::Vector3f& world, float& tsdf, Eigen::Vector3f& tsdf_gradient, float& intensity,
+                        Eigen::Vector3f& intensity_gradient, bool& has_intensity);
+
   // The voxel whose centre is nearest to the point (label, score, tsdf, weight). False where it
   // is unobserved.
   bool nearestVoxel(const Eigen::Vector3f& world, VoxelValue& voxel);
@@ -46,6 +52,8 @@ class VolumeSampler {
   // Packed values of the 8 voxels around `base` (x fastest, then y, then z); false if any is
   // unobserved.
   bool gatherCorners(const openvdb::Coord& base, PackedVoxel corners[8]);
+  // Luma (0..1) of the 8 colour voxels around `base`, same order; needs a colour grid.
+  void gatherLuma(const openvdb::Coord& base, float luma[8]);
 
   const LabeledVolume* volume_;
   float inv_voxel_size_;

@@ -1,0 +1,152 @@
+#pragma once
+// The tracking of every camera of one map: the pose each frame is integrated at, or why it is
+// not integrated.
+//  - A frame with a pose is integrated at that pose (or, on request, at that pose refined by
+//    alignment to the map).
+//  - A frame without one is aligned to the map (depth to the TSDF, colour to the fused colour),
+//    starting from the camera's motion prediction.
+//  - The first pose-less frame of an empty map defines the world frame.
+//  - A camera whose alignment cannot be trusted is lost: its frames are not integrated, and each
+//    new frame is searched for among the keyframes the map has seen, until one is verified by
+//    alignment. A camera that joins a map without a pose is placed the same way.
+// A wrong pose must never reach the map: every pose that is integrated passed the quality tests.
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+
+#include "semfuse/core/result.hpp"
+#include "semfuse/core/types.hpp"
+#include "semfuse/tracking/image_pyramid.hpp"
+#include "semfuse/tracking/keyframe_store.hpp"
+#include "semfuse/tracking/rgbd_odometry.hpp"
+#include "semfuse/tracking/sdf_field.hpp"
+#include "semfuse/tracking/sdf_tracker.hpp"
+
+namespace semfuse::tracking {
+
+enum class GivenPosePolicy {
+  kUseAsIs,  // trust the pose the frame carries
+  kRefine,   // use it as the starting guess of an alignment (kept as is if the alignment fails)
+};
+
+enum class TrackingStatus {
+  kInitialized,  // first frame of an empty map: placed at the initial pose, integrate it
+  kGivenPose,    // the frame's own pose was used
+  kRefined,      // the frame's own pose, refined by alignment
+  kTracked,      // aligned to the map from the motion prediction
+  kRelocalised,  // found again (or placed for the first time) by a keyframe and verified
+  kLost,         // no pose that can be trusted: do not integrate
+};
+const char* toString(TrackingStatus status);
+
+struct TrackedFrame {
+  TrackingStatus status = TrackingStatus::kLost;
+  LostReason lost_reason = LostReason::kNone;  // set when status is kLost (or a refinement failed)
+  Pose pose = Pose::Identity();                // pose to integrate at; for a lost frame the last good pose
+  Pose guess = Pose::Identity();               // where the alignment started
+  TrackingQuality quality;                     // of the alignment, when one ran
+  // The image alignment the SDF alignment started from (to the last frame, or to a keyframe when
+  // relocalising): the share of its points matched, 0 when none ran or it was not used.
+  double image_matched = 0.0;
+  bool shouldIntegrate() const { return status != TrackingStatus::kLost; }
+};
+
+// One camera as the server's status reports it.
+struct CameraTrackingSummary {
+  TrackingStatus last_status = TrackingStatus::kLost;
+  bool lost = false;               // frames are not integrated until the camera is relocalised
+  uint64_t frames = 0;             // frames tracked (any status)
+  uint64_t lost_total = 0;         // frames not integrated for want of a pose
+  uint64_t frames_since_lost = 0;  // frames of the current loss (0 while tracking)
+  uint64_t relocalisations = 0;    // times the camera was found again (or placed) by a keyframe
+};
+
+struct TrackerConfig {
+  TrackerParams alignment;
+  OdometryParams odometry;
+  KeyframeParams keyframes;
+  GivenPosePolicy given_pose = GivenPosePolicy::kUseAsIs;
+  // Where the first pose-less frame of an empty map is placed (the world frame's origin).
+  Pose initial_pose = Pose::Identity();
+
+  // An image alignment (to the last frame, or to a keyframe) gives the SDF alignment its start
+  // when the current image sees at least min_image_overlap of the reference's points and at
+  // least min_odometry_matched of those agree in depth; otherwise the motion prediction and rest
+  // are tried (tracking) or the keyframe is passed over (relocalisation).
+  double min_image_overlap = 0.3;
+  double min_odometry_matched = 0.6;
+
+  // A pose is trusted when, besides the aligner's own tests, at least min_agreement of its points
+  // agree with the map where the map was observed, and either
+  //  - the SDF alignment started from an image alignment (to the last frame or to a keyframe)
+  //    and corrected it by little: two independent alignments agree; or
+  //  - the map confirms it on its own: at least confirm_min_inlier_ratio of the frame's points
+  //    lie on the map's surfaces, and the agreement is at least confirm_min_agreement and within
+  //    max_agreement_drop of the camera's recent median.
+  // A pose that slid into a wrong minimum (after a jump or a covered sensor) has neither: the last
+  // frame's images are not seen again, and a wrong pose overlaps the map little or disagrees.
+  double min_agreement = 0.6;
+  // The image alignment works on 160x120 images: a pixel there is about 1.5 cm at 2 m.
+  double max_image_correction_m = 0.03;
+  double max_image_correction_rad = 0.035;  // 2 degrees
+  double confirm_min_inlier_ratio = 0.6;
+  double confirm_min_agreement = 0.75;
+  double max_agreement_drop = 0.06;
+  int agreement_history = 15;  // recent trusted frames the median is taken over
+
+  // Relocalisation: the nearest keyframes tried.
+  std::size_t relocalisation_candidates = 5;
+
+  // Frames of a camera that carries poses are considered as keyframes every this many frames
+  // (a camera that tracks is considered at every integrated frame).
+  int given_pose_keyframe_interval = 10;
+};
+
+class Tracker {
+ public:
+  explicit Tracker(TrackerConfig config = {});
+  ~Tracker();
+  Tracker(const Tracker&) = delete;
+  Tracker& operator=(const Tracker&) = delete;
+
+  // Decides the pose of `frame` against the map seen through `field`. map_empty: nothing has been
+  // integrated yet (a pose-less first frame then defines the world frame). Errors for malformed
+  // frames (empty or wrongly typed depth, size not matching the intrinsics, non-finite or
+  // non-rigid given pose), which leave every camera's state untouched.
+  Result<TrackedFrame> track(const Frame& frame, const SdfField& field, bool map_empty);
+
+  // The frame was integrated at tracked.pose: it may become a keyframe for relocalisation.
+  void integrated(const Frame& frame, const TrackedFrame& tracked);
+
+  // The map was cleared or replaced: every camera starts over, every keyframe is forgotten.
+  void reset();
+
+  std::map<std::string, CameraTrackingSummary> cameras() const;
+  // One camera's (all zero for a camera the tracker has not seen).
+  CameraTrackingSummary camera(const std::string& camera_id) const;
+  std::size_t keyframes() const { return keyframes_.size(); }
+  const TrackerConfig& config() const { return config_; }
+
+ private:
+  struct CameraState;
+  Result<TrackedFrame> trackWithoutPose(const SdfField& field, bool map_empty, CameraState& state);
+  // Searches the keyframes (and `extra` starts) for the frame's pose; kRelocalised or kLost.
+  Result<TrackedFrame> relocalise(const SdfField& field, const CameraState& state, const std::vector<Pose>& extra,
+                                  LostReason reason_if_not_found);
+  // relocalise(), and a found pose is integrated only once the next frame confirms it.
+  Result<TrackedFrame> relocaliseConfirmed(const SdfField& field, CameraState& state, const std::vector<Pose>& extra,
+                                           LostReason reason_if_not_found);
+  // Whether an alignment's pose may be integrated: `start` is where it began, image_matched the
+  // share of points the image alignment behind that start matched (0 when none).
+  bool trusted(const Alignment& alignment, const Pose& start, double image_matched, const CameraState& state) const;
+  bool usableImageAlignment(const OdometryResult& odometry) const;
+
+  TrackerConfig config_;
+  SdfTracker aligner_;           // keeps its buffers between frames
+  ImagePyramid current_images_;  // of the frame being tracked
+  KeyframeStore keyframes_;
+  std::map<std::string, std::unique_ptr<CameraState>> cameras_;
+};
+
+}  // namespace semfuse::tracking
