@@ -1,5 +1,6 @@
 #include "semfuse/client/map_client.hpp"
 
+#include <atomic>
 #include <mutex>
 #include <string>
 #include <type_traits>
@@ -64,9 +65,23 @@ struct MapClient::Impl {
         status_ready(status_reader.handle()),
         legend_ready(legend_reader.handle()),
         status_waitset(p),
-        legend_waitset(p) {
+        legend_waitset(p),
+        pose_topic(p, dds::topics::kPoses),
+        pose_reader(pose_topic, dds::qos::poseRecording()),
+        pose_ready(pose_reader.handle()),
+        pose_waitset(p) {
     status_waitset.attach(status_ready.handle());
     legend_waitset.attach(legend_ready.handle());
+    pose_waitset.attach(pose_ready.handle());
+  }
+
+  std::vector<TrackedPose> takePoses() {
+    std::vector<TrackedPose> out;
+    while (auto sample = pose_reader.take()) {
+      if (auto decoded = wire::decodeTrackedPose(**sample)) out.push_back(std::move(decoded).value());
+      else ++rejected_poses;
+    }
+    return out;
   }
 
   void poll() {
@@ -97,6 +112,11 @@ struct MapClient::Impl {
   std::mutex mutex;
   std::optional<ServerStatus> status;
   std::optional<LabelLegend> legend;
+  dds::Topic<semfuse_msg_dds__TrackedPose_> pose_topic;
+  dds::Reader<semfuse_msg_dds__TrackedPose_> pose_reader;
+  dds::ReadCondition pose_ready;
+  dds::WaitSet pose_waitset;
+  std::atomic<uint64_t> rejected_poses{0};
 };
 
 MapClient::MapClient(const dds::Participant& participant) : impl_(std::make_unique<Impl>(participant)) {}
@@ -177,5 +197,19 @@ std::optional<LabelLegend> MapClient::waitForLegend(Timeout timeout) {
     static_cast<void>(impl_->legend_waitset.wait(DDS_MSECS(left.count())));
   }
 }
+
+std::vector<TrackedPose> MapClient::takePoses(Timeout timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  for (;;) {
+    std::vector<TrackedPose> poses = impl_->takePoses();
+    if (!poses.empty()) return poses;
+    const auto left =
+        std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    if (left.count() <= 0) return poses;
+    static_cast<void>(impl_->pose_waitset.wait(DDS_MSECS(left.count())));
+  }
+}
+
+uint64_t MapClient::rejectedPoses() const { return impl_->rejected_poses.load(); }
 
 }  // namespace semfuse::client

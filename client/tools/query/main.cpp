@@ -1,9 +1,11 @@
 // semfuse-query: one subcommand per service of the semfuse server (raycast, labels-at, region,
-// objects, mesh, status, save, load, reset). Exit codes: 0 ok, 2 usage, 3 server error, 4 timeout.
+// objects, mesh, status, save, load, reset) and the poses topic (poses). Exit codes: 0 ok, 2 usage, 3 server error, 4
+// timeout.
 #include <chrono>
 #include <fstream>
 #include <functional>
 #include <iostream>
+#include <map>
 #include <optional>
 #include <string>
 #include <thread>
@@ -23,6 +25,7 @@
 #include "semfuse/datasets/seven_scenes.hpp"
 #include "semfuse/dds/error.hpp"
 #include "semfuse/dds/participant.hpp"
+#include "trajectory_file.hpp"
 
 namespace {
 
@@ -54,6 +57,13 @@ struct Options {
   double interval_s = 1.0;
   // save / load
   std::string path;
+  // poses
+  std::string format = "tum";
+  std::string camera;
+  uint64_t max_poses = 0;
+  double duration_s = 0.0;
+  double idle_s = 0.0;
+  bool include_lost = false;
 };
 
 int exitCodeOf(Failure failure) {
@@ -210,6 +220,50 @@ class Query {
     return cli::kExitOk;
   }
 
+  // Records the poses topic into a trajectory file until Ctrl-C, --frames, --duration or --idle.
+  // Lines are flushed as they come: an interrupted recording keeps what it had.
+  int poses() {
+    const auto format = tools::trajectoryFormatNamed(o_.format);
+    if (!format) return usage("--format must be tum, kitti or csv, got '" + o_.format + "'");
+    std::ofstream file(o_.out);
+    if (!file) return usage("cannot write " + o_.out);
+    file << tools::trajectoryHeader(*format) << std::flush;
+    spdlog::info("recording poses{} into {} ({}); Ctrl-C stops", o_.camera.empty() ? "" : " of camera " + o_.camera,
+                 o_.out, o_.format);
+    const auto start = std::chrono::steady_clock::now();
+    auto last_pose = start;
+    uint64_t written = 0, lost = 0;
+    std::map<std::string, uint64_t> per_camera;
+    auto seconds_since = [](std::chrono::steady_clock::time_point t) {
+      return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+    };
+    while (!cli::stopRequested()) {
+      if (o_.max_poses > 0 && written >= o_.max_poses) break;
+      if (o_.duration_s > 0 && seconds_since(start) >= o_.duration_s) break;
+      if (o_.idle_s > 0 && written > 0 && seconds_since(last_pose) >= o_.idle_s) break;
+      for (const TrackedPose& pose : map_.takePoses(std::chrono::milliseconds(200))) {
+        if (!o_.camera.empty() && pose.camera_id != o_.camera) continue;
+        last_pose = std::chrono::steady_clock::now();
+        if (!pose.integrated) ++lost;
+        if (!pose.integrated && !o_.include_lost) continue;
+        if (o_.max_poses > 0 && written >= o_.max_poses) break;
+        file << tools::trajectoryLine(pose, *format);
+        ++written;
+        ++per_camera[pose.camera_id];
+      }
+      file.flush();
+    }
+    if (!file) {
+      spdlog::error("writing {} failed", o_.out);
+      return cli::kExitFailure;
+    }
+    if (per_camera.size() > 1 && *format != tools::TrajectoryFormat::kCsv)
+      spdlog::warn("{} cameras in one {} file: pass --camera to record one trajectory", per_camera.size(), o_.format);
+    spdlog::info("{} poses written to {}, {} frames lost (not integrated){}", written, o_.out, lost,
+                 map_.rejectedPoses() > 0 ? fmt::format(", {} malformed poses left out", map_.rejectedPoses()) : "");
+    return cli::kExitOk;
+  }
+
   int admin(const std::string& command) {
     client::CallResult<client::ServerStatus> result = command == "save"   ? map_.save(o_.path, timeout_)
                                                       : command == "load" ? map_.load(o_.path, timeout_)
@@ -323,6 +377,22 @@ int main(int argc, char** argv) {
   auto* reset = app.add_subcommand("reset", "clear the map");
   reset->add_flag("--json", o.json, "print the status after the reset as JSON");
 
+  auto* poses = app.add_subcommand("poses", "record the server's camera poses into a trajectory file");
+  poses->add_option("--out", o.out, "trajectory file to write")->required();
+  poses->add_option("--format", o.format, "tum (timestamp tx ty tz qx qy qz qw), kitti (3x4 per line) or csv")
+      ->check(CLI::IsMember({"tum", "kitti", "csv"}))
+      ->capture_default_str();
+  poses->add_option("--camera", o.camera, "only this camera's poses (default: every camera)");
+  poses->add_option("--frames", o.max_poses, "stop after this many poses (0 = no limit)")->capture_default_str();
+  poses->add_option("--duration", o.duration_s, "stop after this many seconds (0 = no limit)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  poses->add_option("--idle", o.idle_s, "stop when no pose came for this many seconds after the first (0 = never)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  poses->add_flag("--include-lost", o.include_lost,
+                  "also write frames that were not integrated (at the camera's last pose; csv says which)");
+
   if (const int code = cli::parseCommandLine(app, argc, argv); code >= 0) return code;
   if (Status s = setupLogging("semfuse-query", o.common.log_level); !s) {
     spdlog::error("{}", s.error());
@@ -340,6 +410,7 @@ int main(int argc, char** argv) {
     if (save->parsed()) return query.admin("save");
     if (load->parsed()) return query.admin("load");
     if (reset->parsed()) return query.admin("reset");
+    if (poses->parsed()) return query.poses();
   } catch (const dds::DdsError& e) {
     spdlog::error("DDS: {}", e.what());
     return cli::kExitFailure;

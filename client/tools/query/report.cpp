@@ -53,10 +53,12 @@ std::string statusTable(const client::ServerStatus& s) {
   out += counterLines("rejected", s.rejected);
   for (const auto& c : s.cameras) {
     out += fmt::format(
-        "  camera {:<12} {:<8} last seq {:>6}  received {:>6}  integrated {:>6}  lost {:>4}  "
+        "  camera {:<12} {:<8} last seq {:>6}  received {:>6}  integrated {:>6}  lost {:>4}  relocalised {:>3}  "
         "{:.1f} Hz{}\n",
         c.camera_id, client::trackingStateName(c.tracking_state), c.last_seq, c.frames_received, c.frames_integrated,
-        c.frames_lost, c.frame_rate_hz, c.stale ? "  (stale)" : "");
+        c.frames_lost, c.relocalisations, c.frame_rate_hz, c.stale ? "  (stale)" : "");
+    if (!c.lost_reason.empty())
+      out += fmt::format("         lost for {} frames: {}\n", c.frames_since_lost, c.lost_reason);
   }
   for (const auto& e : s.last_errors) out += fmt::format("  error  [{}] {}\n", e.source, e.message);
   return out;
@@ -75,6 +77,9 @@ std::string statusJson(const client::ServerStatus& s) {
                           .field("frame_rate_hz", static_cast<double>(c.frame_rate_hz))
                           .field("last_frame_age_s", static_cast<double>(c.last_frame_age_s))
                           .field("stale", c.stale)
+                          .field("lost_reason", c.lost_reason)
+                          .field("frames_since_lost", c.frames_since_lost)
+                          .field("relocalisations", c.relocalisations)
                           .str());
   }
   std::vector<std::string> errors;

@@ -82,6 +82,14 @@ class MapClient {
   std::optional<ServerStatus> waitForStatus(Timeout timeout);
   std::optional<LabelLegend> waitForLegend(Timeout timeout);
 
+  // The poses the server publishes for every frame it processes (rt/semfuse/poses): where each
+  // camera was when its frame was integrated, or that its tracking was lost. The client listens
+  // from its construction on; takePoses() returns what arrived since the last call, waiting up to
+  // `timeout` for the first when none is waiting. Poses that fail to decode are left out and
+  // counted in rejectedPoses().
+  std::vector<TrackedPose> takePoses(Timeout timeout);
+  uint64_t rejectedPoses() const;
+
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
