@@ -13,11 +13,11 @@
 #include "bench_support.hpp"
 #include "semfuse/core/malloc_tuning.hpp"
 #include "semfuse/tracking/trajectory_metrics.hpp"
-#include "track_cases.hpp"
-#include "track_consistency.hpp"
-#include "track_report.hpp"
-#include "track_run.hpp"
-#include "track_sequence.hpp"
+#include "track/track_cases.hpp"
+#include "track/track_consistency.hpp"
+#include "track/track_report.hpp"
+#include "track/track_run.hpp"
+#include "track/track_sequence.hpp"
 
 namespace semfuse::bench {
 namespace {
@@ -109,7 +109,7 @@ int benchSequence(const std::string& spec, const TrackBenchOptions& options) {
   for (const TrackCase& track_case : cases) {
     std::printf("  case %s\n", track_case.spec.c_str());
     std::fflush(stdout);
-    auto run = runCase(sequence, track_case, options.run);
+    auto run = runCase(sequence, track_case, options.run, judge);
     if (!run) {
       std::fprintf(stderr, "track: %s %s: %s\n", sequence.name().c_str(), track_case.spec.c_str(), run.error().c_str());
       return 1;

@@ -1,4 +1,4 @@
-#include "track_cases.hpp"
+#include "track/track_cases.hpp"
 
 #include <cmath>
 #include <random>

@@ -1,4 +1,4 @@
-#include "track_consistency.hpp"
+#include "track/track_consistency.hpp"
 
 #include <cmath>
 #include <cstdio>

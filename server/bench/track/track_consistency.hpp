@@ -3,8 +3,8 @@
 // aligned, from its own pose, to a map of its 40 neighbours fused at their poses of the same
 // trajectory. A trajectory the depth supports moves little. Used to tell tracker error from
 // reference error where the reference is itself a reconstruction (7-Scenes).
-#include "track_run.hpp"
-#include "track_sequence.hpp"
+#include "track/track_run.hpp"
+#include "track/track_sequence.hpp"
 
 namespace semfuse::bench {
 

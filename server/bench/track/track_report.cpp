@@ -1,4 +1,4 @@
-#include "track_report.hpp"
+#include "track/track_report.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -65,15 +65,22 @@ CaseSummary summarise(const TrackCase& track_case, const CaseRun& run, const std
       reference.push_back(*judge[record.index]);
     }
   }
+  // A comeback counts from the first frame after the break that shows mapped space: a camera
+  // cannot be found again before it sees something the map holds.
   for (std::size_t resume : track_case.resumptions) {
-    std::size_t step = resume;
+    std::size_t seen = resume;
+    while (seen < run.frames.size() && !run.frames[seen].integrated() && !run.frames[seen].sees_map) ++seen;
+    if (seen == run.frames.size()) continue;  // never saw mapped space again
+    std::size_t step = seen;
     while (step < run.frames.size() && !run.frames[step].integrated()) ++step;
     if (step == run.frames.size()) {
       out.resumed_every_time = false;
       continue;
     }
-    out.max_frames_to_resume = std::max(out.max_frames_to_resume.value_or(0), step - resume);
+    out.max_frames_to_resume = std::max(out.max_frames_to_resume.value_or(0), step - seen);
   }
+  for (const FrameRecord& record : run.frames)
+    if (!record.integrated() && record.sees_map) ++out.lost_seeing_map;
   auto ate = tracking::absoluteTrajectoryError(estimate, reference, /*align=*/true);
   if (ate) {
     out.ate_rmse_m = ate.value().rmse_m;
@@ -125,7 +132,11 @@ void printCaseTable(const std::string& title, const std::string& judged_against,
     if (s.max_frames_to_resume) comeback = std::to_string(*s.max_frames_to_resume);
     if (!s.resumed_every_time) comeback = "never";
     std::string lost = std::to_string(s.lost);
-    if (s.lost_altered > 0) lost += " (" + std::to_string(s.lost_altered) + " altered)";
+    if (s.lost > 0) {
+      lost += " (" + std::to_string(s.lost_seeing_map) + " saw map";
+      if (s.lost_altered > 0) lost += ", " + std::to_string(s.lost_altered) + " altered";
+      lost += ")";
+    }
     cells.push_back({s.spec, std::to_string(s.played), std::to_string(s.integrated), lost,
                      std::to_string(s.relocalisations), comeback, cm(s.ate_rmse_m), cm(s.ate_max_m),
                      formatNumber(s.rotation_median_deg, 2) + " / " + formatNumber(s.rotation_max_deg, 2),
@@ -140,7 +151,9 @@ void printCaseTable(const std::string& title, const std::string& judged_against,
   std::printf(
       "\n%s\n  ATE (camera centres, TUM convention) and pose errors of the integrated frames against %s;\n"
       "  deg p50/max: rotation errors and wrong: poses farther than %.0f cm or %.0f deg, after fitting whole\n"
-      "  poses; comeback: most frames from a jump or an uncovered sensor to the next integrated frame\n",
+      "  poses; lost (saw map): of the frames not integrated, those that showed mapped space at their\n"
+      "  true pose (half their points on mapped surfaces); comeback: most frames from the first frame after\n"
+      "  a jump or an uncovered sensor that shows mapped space to the next integrated frame\n",
       title.c_str(), judged_against.c_str(), kWrongPoseMetres * 100.0, kWrongPoseDegrees);
   for (const auto& row : cells) {
     std::printf("  %-*s", static_cast<int>(widths[0]), row[0].c_str());

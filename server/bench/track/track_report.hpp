@@ -10,8 +10,8 @@
 
 #include "bench_support.hpp"
 #include "semfuse/core/types.hpp"
-#include "track_cases.hpp"
-#include "track_run.hpp"
+#include "track/track_cases.hpp"
+#include "track/track_run.hpp"
 
 namespace semfuse::bench {
 
@@ -26,7 +26,9 @@ struct CaseSummary {
   std::size_t lost = 0;
   std::size_t lost_altered = 0;  // of the lost: frames the case altered (no depth, one plane)
   std::size_t relocalisations = 0;
-  // Frames from each comeback (resumption step) to the first integrated frame; the largest.
+  std::size_t lost_seeing_map = 0;  // of the lost: frames that showed mapped space at their judging pose
+  // Frames from each comeback (the first frame after a break that shows mapped space) to the
+  // first integrated frame; the largest. Empty when no break was followed by mapped space.
   std::optional<std::size_t> max_frames_to_resume;
   bool resumed_every_time = true;
   double ate_rmse_m = 0.0;  // integrated frames against the judging reference, aligned

@@ -1,4 +1,4 @@
-#include "track_run.hpp"
+#include "track/track_run.hpp"
 
 #include <cstdio>
 
@@ -9,8 +9,21 @@
 
 namespace semfuse::bench {
 
-Result<CaseRun> runCase(const TrackSequence& sequence, const TrackCase& track_case, const RunOptions& options) {
+namespace {
+
+// The alignment's quality tests at a given pose, without moving it.
+tracking::TrackerParams probeParams(const tracking::TrackerParams& params) {
+  tracking::TrackerParams probe = params;
+  probe.max_iterations.fill(0);
+  return probe;
+}
+
+}  // namespace
+
+Result<CaseRun> runCase(const TrackSequence& sequence, const TrackCase& track_case, const RunOptions& options,
+                        const std::vector<std::optional<Pose>>& judge) {
   CaseRun run;
+  tracking::SdfTracker probe(probeParams(options.tracker.alignment));
   volume::LabeledVolume map(options.volume);
   const tracking::VolumeField field(map);
   tracking::TrackerConfig config = options.tracker;
@@ -41,6 +54,9 @@ Result<CaseRun> runCase(const TrackSequence& sequence, const TrackCase& track_ca
       record.integrate_ms = integrate_watch.elapsedMs();
       if (!stats) return makeError("integrate frame " + std::to_string(play.index) + ": " + stats.error());
       tracker.integrated(frame, record.tracked);
+    } else if (play.index < judge.size() && judge[play.index] && map.framesIntegrated() > 0) {
+      auto at_truth = probe.align(frame.depth, frame.intrinsics, field, *judge[play.index]);
+      record.sees_map = at_truth && at_truth.value().quality.inlier_ratio >= 0.5;
     }
     const auto& t = record.tracked;
     const bool notable =

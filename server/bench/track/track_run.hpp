@@ -2,6 +2,7 @@
 // One tracking case played through the server's tracker and integrator, in process: each frame
 // is tracked without its pose, integrated where the tracker says so, and recorded.
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -9,8 +10,8 @@
 #include "semfuse/core/result.hpp"
 #include "semfuse/tracking/tracker.hpp"
 #include "semfuse/volume/volume_params.hpp"
-#include "track_cases.hpp"
-#include "track_sequence.hpp"
+#include "track/track_cases.hpp"
+#include "track/track_sequence.hpp"
 
 namespace semfuse::bench {
 
@@ -20,6 +21,9 @@ struct FrameRecord {
   double track_ms = 0.0;      // wall clock of the tracker's call
   double track_cpu_ms = 0.0;  // process CPU time of the same call (all threads)
   double integrate_ms = 0.0;
+  // For a frame that was not integrated: whether, at its judging pose, at least half of its points
+  // lie on the surfaces mapped so far (it shows mapped space, so relocalisation could find it).
+  bool sees_map = false;
   bool integrated() const { return tracked.shouldIntegrate(); }
 };
 
@@ -30,11 +34,13 @@ struct CaseRun {
 struct RunOptions {
   volume::VolumeParams volume;
   tracking::TrackerConfig tracker;
-  bool verbose = false;
-  double depth_scale = 1.0;  // diagnostic: every depth reading multiplied by this  // one line per frame (lost and
-                             // relocalised frames are always printed)
+  bool verbose = false;      // one line per frame (lost and relocalised frames are always printed)
+  double depth_scale = 1.0;  // diagnostic: every depth reading multiplied by this
 };
 
-Result<CaseRun> runCase(const TrackSequence& sequence, const TrackCase& track_case, const RunOptions& options);
+// `judge` (per sequence frame, may be empty): the poses at which lost frames are checked for
+// showing mapped space (FrameRecord::sees_map).
+Result<CaseRun> runCase(const TrackSequence& sequence, const TrackCase& track_case, const RunOptions& options,
+                        const std::vector<std::optional<Pose>>& judge = {});
 
 }  // namespace semfuse::bench

@@ -1,4 +1,4 @@
-#include "track_sequence.hpp"
+#include "track/track_sequence.hpp"
 
 #include <algorithm>
 #include <atomic>
