@@ -105,6 +105,10 @@ int benchSequence(const std::string& spec, const TrackBenchOptions& options) {
     unbroken = std::move(run).value();
   }
 
+  // The sequence's own poses, reported beside the judge's when they are not the judge.
+  std::vector<std::optional<Pose>> sequence_reference;
+  if (!sequence.referenceIsTruth())
+    for (std::size_t i = 0; i < sequence.size(); ++i) sequence_reference.push_back(sequence.reference(i));
   std::vector<CaseSummary> rows;
   for (const TrackCase& track_case : cases) {
     std::printf("  case %s\n", track_case.spec.c_str());
@@ -114,7 +118,7 @@ int benchSequence(const std::string& spec, const TrackBenchOptions& options) {
       std::fprintf(stderr, "track: %s %s: %s\n", sequence.name().c_str(), track_case.spec.c_str(), run.error().c_str());
       return 1;
     }
-    rows.push_back(summarise(track_case, run.value(), judge));
+    rows.push_back(summarise(track_case, run.value(), judge, sequence_reference));
   }
   printCaseTable("tracking: " + sequence.name() + ", " + std::to_string(sequence.size()) + " frames", judged_against,
                  rows);

@@ -41,7 +41,8 @@ Pose poseAlignment(const std::vector<Pose>& estimate, const std::vector<Pose>& r
 
 }  // namespace
 
-CaseSummary summarise(const TrackCase& track_case, const CaseRun& run, const std::vector<std::optional<Pose>>& judge) {
+CaseSummary summarise(const TrackCase& track_case, const CaseRun& run, const std::vector<std::optional<Pose>>& judge,
+                      const std::vector<std::optional<Pose>>& sequence_reference) {
   CaseSummary out;
   out.spec = track_case.spec;
   out.played = run.frames.size();
@@ -81,6 +82,17 @@ CaseSummary summarise(const TrackCase& track_case, const CaseRun& run, const std
   }
   for (const FrameRecord& record : run.frames)
     if (!record.integrated() && record.sees_map) ++out.lost_seeing_map;
+  if (!sequence_reference.empty()) {
+    std::vector<Pose> tracked, own;
+    for (const FrameRecord& record : run.frames) {
+      if (!record.integrated() || record.index >= sequence_reference.size() || !sequence_reference[record.index])
+        continue;
+      tracked.push_back(record.tracked.pose);
+      own.push_back(*sequence_reference[record.index]);
+    }
+    if (auto own_ate = tracking::absoluteTrajectoryError(tracked, own, /*align=*/true))
+      out.ate_sequence_reference_m = own_ate.value().rmse_m;
+  }
   auto ate = tracking::absoluteTrajectoryError(estimate, reference, /*align=*/true);
   if (ate) {
     out.ate_rmse_m = ate.value().rmse_m;
@@ -125,8 +137,11 @@ CaseSummary summarise(const TrackCase& track_case, const CaseRun& run, const std
 
 void printCaseTable(const std::string& title, const std::string& judged_against, const std::vector<CaseSummary>& rows) {
   std::vector<std::vector<std::string>> cells;
+  const bool own_reference = std::any_of(rows.begin(), rows.end(),
+                                         [](const CaseSummary& s) { return s.ate_sequence_reference_m.has_value(); });
   cells.push_back({"case", "frames", "integrated", "lost", "reloc", "comeback", "ATE cm", "max cm", "deg p50/max",
                    "wrong", "RPE mm", "RPE deg", "track ms p50/p95", "CPU ms p50"});
+  if (own_reference) cells.back().push_back("ATE vs dataset cm");
   for (const CaseSummary& s : rows) {
     std::string comeback = "-";
     if (s.max_frames_to_resume) comeback = std::to_string(*s.max_frames_to_resume);
@@ -144,6 +159,7 @@ void printCaseTable(const std::string& title, const std::string& judged_against,
                      formatNumber(s.rpe_rotation_rmse_deg, 3),
                      formatNumber(s.track_ms.median(), 1) + " / " + formatNumber(s.track_ms.p95(), 1),
                      formatNumber(s.track_cpu_ms.median(), 1)});
+    if (own_reference) cells.back().push_back(s.ate_sequence_reference_m ? cm(*s.ate_sequence_reference_m) : "-");
   }
   std::vector<std::size_t> widths(cells.front().size(), 0);
   for (const auto& row : cells)
@@ -153,8 +169,9 @@ void printCaseTable(const std::string& title, const std::string& judged_against,
       "  deg p50/max: rotation errors and wrong: poses farther than %.0f cm or %.0f deg, after fitting whole\n"
       "  poses; lost (saw map): of the frames not integrated, those that showed mapped space at their\n"
       "  true pose (half their points on mapped surfaces); comeback: most frames from the first frame after\n"
-      "  a jump or an uncovered sensor that shows mapped space to the next integrated frame\n",
-      title.c_str(), judged_against.c_str(), kWrongPoseMetres * 100.0, kWrongPoseDegrees);
+      "  a jump or an uncovered sensor that shows mapped space to the next integrated frame%s\n",
+      title.c_str(), judged_against.c_str(), kWrongPoseMetres * 100.0, kWrongPoseDegrees,
+      own_reference ? ";\n  ATE vs dataset: the same frames against the dataset's own poses" : "");
   for (const auto& row : cells) {
     std::printf("  %-*s", static_cast<int>(widths[0]), row[0].c_str());
     for (std::size_t c = 1; c < row.size(); ++c) std::printf("  %*s", static_cast<int>(widths[c]), row[c].c_str());

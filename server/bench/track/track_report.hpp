@@ -32,6 +32,8 @@ struct CaseSummary {
   std::optional<std::size_t> max_frames_to_resume;
   bool resumed_every_time = true;
   double ate_rmse_m = 0.0;  // integrated frames against the judging reference, aligned
+  // Against the sequence's own reference when it is not the judge (7-Scenes' KinectFusion poses).
+  std::optional<double> ate_sequence_reference_m;
   double ate_max_m = 0.0;
   double rotation_max_deg = 0.0;     // largest rotation error after the same alignment
   double rotation_median_deg = 0.0;  // and its median
@@ -43,7 +45,9 @@ struct CaseSummary {
 
 // `judge`: per sequence frame, the pose an integrated frame is judged against (the reference for
 // motion capture / exact poses, an unbroken run's pose otherwise); nullopt = not judged.
-CaseSummary summarise(const TrackCase& track_case, const CaseRun& run, const std::vector<std::optional<Pose>>& judge);
+// `sequence_reference` (may be empty): the sequence's own poses, when they are not the judge.
+CaseSummary summarise(const TrackCase& track_case, const CaseRun& run, const std::vector<std::optional<Pose>>& judge,
+                      const std::vector<std::optional<Pose>>& sequence_reference = {});
 
 // One row per case, aligned columns.
 void printCaseTable(const std::string& title, const std::string& judged_against, const std::vector<CaseSummary>& rows);
