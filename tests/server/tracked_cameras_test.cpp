@@ -61,7 +61,8 @@ std::vector<RecordedPose> readCsvTrajectory(const std::filesystem::path& file) {
     const Eigen::Quaterniond q(std::stod(fields[11]), std::stod(fields[8]), std::stod(fields[9]),
                                std::stod(fields[10]));
     pose.camera_to_world.linear() = q.normalized().toRotationMatrix();
-    pose.camera_to_world.translation() = Eigen::Vector3d(std::stod(fields[5]), std::stod(fields[6]), std::stod(fields[7]));
+    pose.camera_to_world.translation() =
+        Eigen::Vector3d(std::stod(fields[5]), std::stod(fields[6]), std::stod(fields[7]));
     out.push_back(pose);
   }
   return out;
