@@ -27,16 +27,6 @@ class CameraTracking : public ::testing::Test {
     return frame;
   }
 
-  // A short smooth path: 2 cm and 0.5 degrees per frame.
-  static Pose pathPose(int i) {
-    Pose step = Pose::Identity();
-    step.linear() = Eigen::AngleAxisd(0.5 * M_PI / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-    step.translation() = Eigen::Vector3d(0.02, 0.0, 0.0);
-    Pose pose = referencePose();
-    for (int k = 0; k < i; ++k) pose = pose * step;
-    return pose;
-  }
-
   // A tracker whose world frame starts at the path's first pose.
   static TrackerConfig startingAtThePath(GivenPosePolicy policy = GivenPosePolicy::kUseAsIs) {
     TrackerConfig config;
