@@ -9,6 +9,8 @@
 # Writes under out/track/ (or --out): poses.txt (TUM format), status.txt, ate.txt, logs/.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+# shellcheck source=deploy/processes.sh
+source "$root/deploy/processes.sh"
 
 shared="${SEMFUSE_SHARED:-$root/../shared}"
 tum="$shared/data/rgbd_dataset_freiburg1_xyz"
@@ -37,24 +39,12 @@ done
 server="$build_dir/server/app/semfuse-server"
 bin="$build_dir/client"
 bench="$build_dir/server/bench/semfuse-bench"
-for program in "$server" "$bin/semfuse-camera" "$bin/semfuse-query" "$bench"; do
-  [[ -x "$program" ]] || { echo "track: $program not built (run deploy/build.sh)" >&2; exit 1; }
-done
+require_programs "$server" "$bin/semfuse-camera" "$bin/semfuse-query" "$bench"
 
-# Loopback only, and a domain of our own so that other semfuse runs on this host do not mix in.
-export CYCLONEDDS_URI="file://$root/deploy/dds/localhost.xml"
-domain=$(( 100 + $$ % 100 ))
-dds=(--domain-id "$domain")
+start_loopback_dds
 
 rm -rf "$out"
 mkdir -p "$out/logs"
-pids=()
-cleanup() {
-  for pid in "${pids[@]}"; do kill -TERM "$pid" 2>/dev/null || true; done
-  for pid in "${pids[@]}"; do wait "$pid" 2>/dev/null || true; done
-}
-trap cleanup EXIT
-trap 'echo "track: interrupted" >&2; exit 130' INT TERM
 log() { printf '\033[1mtrack:\033[0m %s\n' "$*"; }
 
 log "server on DDS domain $domain (defaults), map $out/map.vdb"
