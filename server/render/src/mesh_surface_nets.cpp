@@ -11,63 +11,19 @@
 #include <tbb/parallel_for.h>
 #include <Eigen/Geometry>
 
-#include "semfuse/volume/cell_interpolation.hpp"
-
 #include "mesh_cells.hpp"
+#include "mesh_vertex.hpp"
 
 namespace semfuse::render::detail {
 namespace {
 
 constexpr std::size_t kLeavesPerTask = 16;
 
-// Corner k = dx + 2 dy + 4 dz of a cell.
-struct CellCorners {
-  volume::PackedVoxel packed[8];
-  float tsdf[8];
-  bool inside[8];
-};
-
 CellCorners gatherCorners(const VoxelBlock& block, int x, int y, int z) {
   CellCorners corners;
-  for (int k = 0; k < 8; ++k) {
-    corners.packed[k] = block.at(x + (k & 1), y + ((k >> 1) & 1), z + ((k >> 2) & 1));
-    corners.tsdf[k] = volume::unpackTsdf(corners.packed[k]);
-    // The same test as mesh_cells.cpp's, on the bits, so that every cell it kept has a crossing.
-    const auto bits = static_cast<uint64_t>(corners.packed[k]);
-    corners.inside[k] = (bits & 0x8000u) != 0 && (bits & 0x7FFFu) != 0;
-  }
+  for (int k = 0; k < 8; ++k) corners.packed[k] = block.at(x + (k & 1), y + ((k >> 1) & 1), z + ((k >> 2) & 1));
+  fillCorners(corners);
   return corners;
-}
-
-// The mean of the points where the zero level crosses the cell's edges, in the cell's own
-// coordinates ([0, 1]^3), each crossing interpolated linearly along its edge: all crossings, or
-// with a topology only those of piece `group` (the few split cells; the others skip the lookups).
-Eigen::Vector3f meanCrossing(const CellCorners& c, const CellTopology* topology = nullptr, int group = 0) {
-  Eigen::Vector3f sum = Eigen::Vector3f::Zero();
-  int crossings = 0;
-  for (int k = 0; k < 8; ++k)
-    for (int axis = 0; axis < 3; ++axis) {
-      const int step = 1 << axis;
-      if ((k & step) != 0 || c.inside[k] == c.inside[k | step]) continue;
-      if (topology != nullptr && topology->group[k][axis] != group) continue;
-      float t = c.tsdf[k] / (c.tsdf[k] - c.tsdf[k | step]);
-      if (!(t >= 0.0f && t <= 1.0f)) t = 0.5f;  // NaN or inf in a loaded map: keep the vertex in the cell
-      Eigen::Vector3f point(static_cast<float>(k & 1), static_cast<float>((k >> 1) & 1),
-                            static_cast<float>((k >> 2) & 1));
-      point[axis] = t;
-      sum += point;
-      ++crossings;
-    }
-  return sum / static_cast<float>(crossings);  // >= 1: every piece crosses an edge
-}
-
-// Unit gradient of the trilinear interpolant of the corners at p (cell coordinates): the normal,
-// pointing towards free space. Zero where the gradient vanishes.
-Eigen::Vector3f normalAt(const CellCorners& c, const Eigen::Vector3f& p) {
-  Eigen::Vector3f gradient;
-  volume::trilinearWithGradient(c.tsdf, p.x(), p.y(), p.z(), gradient);
-  const float norm = gradient.norm();
-  return norm > 0.0f ? Eigen::Vector3f(gradient / norm) : Eigen::Vector3f::Zero();
 }
 
 // Writes vertex `index` at p in the cell, with the normal there and label, score and colour of
@@ -78,8 +34,7 @@ void placeVertex(const CellCorners& corners, const openvdb::Coord& cell, const E
       (Eigen::Vector3f(static_cast<float>(cell.x()), static_cast<float>(cell.y()), static_cast<float>(cell.z())) + p) *
       voxel_size;
   mesh.normals[index] = normalAt(corners, p);
-  // The nearest voxel is the nearest corner: the one on the same side of 0.5 on every axis.
-  const int nearest = (p.x() >= 0.5f ? 1 : 0) | (p.y() >= 0.5f ? 2 : 0) | (p.z() >= 0.5f ? 4 : 0);
+  const int nearest = nearestCorner(p);
   mesh.labels[index] = volume::unpackLabel(corners.packed[nearest]);
   mesh.scores[index] = volume::unpackScore(corners.packed[nearest]);
   if (colors)
@@ -172,20 +127,6 @@ template <typename Emit>
       quad(1, cells.isInside(x, y + 1, z) != inside, x - 1, y, z - 1, x - 1, y, z, x, y, z - 1);
       quad(2, cells.isInside(x, y, z + 1) != inside, x - 1, y - 1, z, x, y - 1, z, x - 1, y, z);
     }
-}
-
-// Which diagonal of quad abcd to split along: the one whose two triangles turn the same way most.
-// Vertices sit anywhere in their cells, so a quad can be bent or, seen from its normal, not convex;
-// a split along the wrong diagonal then folds one triangle over the other.
-bool splitAlongAC(const Eigen::Vector3f& a, const Eigen::Vector3f& b, const Eigen::Vector3f& c,
-                  const Eigen::Vector3f& d) {
-  auto agreement = [](const Eigen::Vector3f& n1, const Eigen::Vector3f& n2) {
-    const float norms = n1.norm() * n2.norm();
-    return norms > 0.0f ? n1.dot(n2) / norms : -1.0f;
-  };
-  const float along_ac = agreement((b - a).cross(c - a), (c - a).cross(d - a));
-  const float along_bd = agreement((b - a).cross(d - a), (c - b).cross(d - b));
-  return along_ac >= along_bd;
 }
 
 template <typename Body>

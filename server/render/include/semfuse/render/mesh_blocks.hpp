@@ -1,0 +1,41 @@
+#pragma once
+// The map's surface block by block, for live views that follow the map as it grows: a block is
+// one leaf of the volume (8^3 voxels), and its mesh can be made again alone when the leaves it
+// reads change, so that the cost follows the change, not the map.
+//
+// The block owns the surface nets vertices of its 512 cells (a cell is named by its lowest corner
+// voxel) and the quads of the crossed voxel edges whose lowest surrounding cell is one of them.
+// Those quads reach one layer of cells into the blocks above (+x, +y, +z): the block repeats
+// their vertices after its own, so that it can be drawn alone, and neighbouring blocks meet at
+// identical vertices. Together the blocks give exactly the triangles of extractMesh's surface
+// nets. A block reads the voxels [origin, origin + 10)^3: its own leaf and two layers of the seven
+// leaves above it.
+#include <cstdint>
+#include <vector>
+
+#include <openvdb/openvdb.h>
+
+#include "semfuse/render/mesh.hpp"
+#include "semfuse/volume/labeled_volume.hpp"
+
+namespace semfuse::render {
+
+struct BlockMesh {
+  openvdb::Coord origin;  // the block's lowest voxel: a leaf origin
+  // Vertices in voxels from `origin` (world = (origin + vertex) * voxel size); the block's own
+  // vertices first, then the repeated ones of the blocks above.
+  LabeledMesh mesh;
+  uint32_t own_vertices = 0;
+};
+
+// The blocks whose mesh reads voxels of these leaves (leaf origins): each leaf's own block and
+// the seven below it (-x, -y, -z and their combinations). Sorted, without repeats.
+std::vector<openvdb::Coord> blocksReadingLeaves(const std::vector<openvdb::Coord>& leaf_origins);
+
+// The mesh of each block in `origins` (leaf origins), in that order, in parallel. A block whose
+// leaf is not allocated, or without surface, has an empty mesh. Reads the volume only: callers
+// that share the volume with a writer hold its shared lock.
+std::vector<BlockMesh> extractBlockMeshes(const volume::LabeledVolume& volume,
+                                          const std::vector<openvdb::Coord>& origins);
+
+}  // namespace semfuse::render

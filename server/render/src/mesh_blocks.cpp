@@ -1,0 +1,251 @@
+#include "semfuse/render/mesh_blocks.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cstring>
+#include <optional>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "mesh_cells.hpp"
+#include "mesh_vertex.hpp"
+
+namespace semfuse::render {
+namespace {
+
+using detail::CellCorners;
+using detail::CellTopology;
+constexpr int kDim = detail::kLeafDim;  // voxels per block side
+constexpr int kSpan = kDim + 2;         // voxels per side a block reads
+constexpr int kCells = kDim + 1;        // cells per side whose vertices a block may use
+constexpr std::size_t kBlocksPerTask = 8;
+
+// The voxels [0, 10)^3 from a block's origin, read in place from its leaf and the seven above.
+class BlockVoxels {
+ public:
+  // False when the block's own leaf is not allocated: then none of its cells is observed.
+  bool gather(const volume::GeometryGrid::ConstAccessor& geometry, const volume::ColorGrid::ConstAccessor* colors,
+              const openvdb::Coord& origin) {
+    for (int a = 0; a < 2; ++a)
+      for (int b = 0; b < 2; ++b)
+        for (int c = 0; c < 2; ++c) {
+          const openvdb::Coord at = origin.offsetBy(a * kDim, b * kDim, c * kDim);
+          const auto* leaf = geometry.probeConstLeaf(at);
+          voxels_[a][b][c] = leaf ? leaf->buffer().data() : nullptr;
+          const auto* color_leaf = colors ? colors->probeConstLeaf(at) : nullptr;
+          colors_[a][b][c] = color_leaf ? color_leaf->buffer().data() : nullptr;
+        }
+    return voxels_[0][0][0] != nullptr;
+  }
+  volume::PackedVoxel at(int x, int y, int z) const {
+    const volume::PackedVoxel* data = voxels_[x >> 3][y >> 3][z >> 3];
+    return data ? data[detail::leafOffset(x & 7, y & 7, z & 7)] : volume::kUnobservedVoxel;
+  }
+  volume::Rgb8 color(int x, int y, int z) const {
+    const volume::PackedColor* data = colors_[x >> 3][y >> 3][z >> 3];
+    return data ? volume::unpackColor(data[detail::leafOffset(x & 7, y & 7, z & 7)]) : volume::Rgb8{};
+  }
+
+ private:
+  const volume::PackedVoxel* voxels_[2][2][2];  // [x / 8][y / 8][z / 8]
+  const volume::PackedColor* colors_[2][2][2];
+};
+
+// One block's surface nets, in the block's own coordinates.
+class BlockMesher {
+ public:
+  BlockMesher(const BlockVoxels& voxels, bool with_colors, float voxel_size, BlockMesh& out)
+      : voxels_(voxels), with_colors_(with_colors), voxel_size_(voxel_size), origin_(out.origin), mesh_(out.mesh) {
+    classify();
+    first_vertex_.fill(-1);
+    // The block's own cells first, in order, so that its own vertices come first.
+    for (int x = 0; x < kDim; ++x)
+      for (int y = 0; y < kDim; ++y)
+        for (int z = 0; z < kDim; ++z)
+          if (isSurface(x, y, z)) addVertices(x, y, z);
+    out.own_vertices = static_cast<uint32_t>(mesh_.vertices.size());
+    for (int x = 0; x < kDim; ++x)
+      for (int y = 0; y < kDim; ++y)
+        for (int z = 0; z < kDim; ++z)
+          if (isSurface(x, y, z)) addQuads(x, y, z);
+  }
+
+ private:
+  // Bit z of [x][y]: voxel (x, y, z) is observed / observed and inside; then which cells carry
+  // a vertex, as in mesh_cells.cpp: all 8 corners observed, some but not all inside.
+  void classify() {
+    std::array<std::array<uint16_t, kSpan>, kSpan> observed{}, inside{};
+    for (int x = 0; x < kSpan; ++x)
+      for (int y = 0; y < kSpan; ++y)
+        for (int z = 0; z < kSpan; ++z) {
+          const volume::PackedVoxel v = voxels_.at(x, y, z);
+          if (!volume::isObserved(v)) continue;
+          observed[x][y] |= static_cast<uint16_t>(1u << z);
+          if (detail::insideBits(v)) inside[x][y] |= static_cast<uint16_t>(1u << z);
+        }
+    inside_ = inside;
+    for (int x = 0; x < kCells; ++x)
+      for (int y = 0; y < kCells; ++y) {
+        unsigned all_observed = 0x3FF, any_inside = 0, all_inside = 0x3FF;
+        for (int dx = 0; dx < 2; ++dx)
+          for (int dy = 0; dy < 2; ++dy) {
+            all_observed &= observed[x + dx][y + dy];
+            any_inside |= inside[x + dx][y + dy];
+            all_inside &= inside[x + dx][y + dy];
+          }
+        all_observed &= all_observed >> 1;  // bit z: voxels z and z + 1
+        any_inside |= any_inside >> 1;
+        all_inside &= all_inside >> 1;
+        surface_[x][y] = static_cast<uint16_t>(all_observed & any_inside & ~all_inside & 0x1FFu);
+      }
+  }
+
+  bool isSurface(int x, int y, int z) const { return ((surface_[x][y] >> z) & 1u) != 0; }
+  bool isInside(int x, int y, int z) const { return ((inside_[x][y] >> z) & 1u) != 0; }
+  static int cellIndex(int x, int y, int z) { return (x * kCells + y) * kCells + z; }
+
+  CellCorners corners(int x, int y, int z) const {
+    CellCorners c;
+    for (int k = 0; k < 8; ++k) c.packed[k] = voxels_.at(x + (k & 1), y + ((k >> 1) & 1), z + ((k >> 2) & 1));
+    detail::fillCorners(c);
+    return c;
+  }
+  // Bit k: corner k of cell (x, y, z) is inside (the same bits as insideMask of its corners).
+  uint8_t insideCorners(int x, int y, int z) const {
+    uint8_t mask = 0;
+    for (int k = 0; k < 8; ++k)
+      if (isInside(x + (k & 1), y + ((k >> 1) & 1), z + ((k >> 2) & 1))) mask |= static_cast<uint8_t>(1u << k);
+    return mask;
+  }
+  static uint8_t insideMask(const CellCorners& c) {
+    uint8_t mask = 0;
+    for (int k = 0; k < 8; ++k) mask |= static_cast<uint8_t>(c.inside[k] ? 1u << k : 0u);
+    return mask;
+  }
+
+  // One vertex per piece of surface in the cell, numbered consecutively.
+  void addVertices(int x, int y, int z) {
+    const CellCorners c = corners(x, y, z);
+    const CellTopology& topology = detail::cellTopology(insideMask(c));
+    first_vertex_[static_cast<std::size_t>(cellIndex(x, y, z))] = static_cast<int>(mesh_.vertices.size());
+    for (int group = 0; group < topology.groups; ++group) {
+      const Eigen::Vector3f p =
+          topology.groups == 1 ? detail::meanCrossing(c) : detail::meanCrossing(c, &topology, group);
+      mesh_.vertices.emplace_back(Eigen::Vector3f(static_cast<float>(x), static_cast<float>(y), static_cast<float>(z)) +
+                                  p);
+      // The world position as extractMesh computes it, bit for bit, for the quads' split.
+      const openvdb::Coord cell = origin_.offsetBy(x, y, z);
+      world_.emplace_back(
+          (Eigen::Vector3f(static_cast<float>(cell.x()), static_cast<float>(cell.y()), static_cast<float>(cell.z())) +
+           p) *
+          voxel_size_);
+      mesh_.normals.push_back(detail::normalAt(c, p));
+      const int nearest = detail::nearestCorner(p);
+      mesh_.labels.push_back(volume::unpackLabel(c.packed[nearest]));
+      mesh_.scores.push_back(volume::unpackScore(c.packed[nearest]));
+      if (with_colors_)
+        mesh_.colors.push_back(voxels_.color(x + (nearest & 1), y + ((nearest >> 1) & 1), z + ((nearest >> 2) & 1)));
+    }
+  }
+
+  // The vertex of cell (x, y, z) whose piece crosses the edge from its corner k along `axis`;
+  // cells of the layer above the block get their vertices when a quad first needs them.
+  uint32_t edgeVertex(int x, int y, int z, int k, int axis) {
+    int& first = first_vertex_[static_cast<std::size_t>(cellIndex(x, y, z))];
+    if (first < 0) addVertices(x, y, z);
+    const int group = detail::cellTopology(insideCorners(x, y, z)).group[k][axis];
+    return static_cast<uint32_t>(first + std::max(group, 0));
+  }
+
+  // The quads of the crossed edges whose lowest surrounding cell is (x, y, z): the edge from voxel
+  // v = (x, y, z) + u + w along each axis, u and w the other two. The four cells are listed as
+  // extractMesh's surface nets lists them, counter-clockwise seen from the free side.
+  void addQuads(int x, int y, int z) {
+    for (int axis = 0; axis < 3; ++axis) {
+      const std::array<int, 3> c0{x, y, z};
+      std::array<int, 3> v = c0;
+      for (int other = 0; other < 3; ++other)
+        if (other != axis) ++v[other];
+      std::array<int, 3> beyond = v;
+      ++beyond[axis];
+      const bool inside = isInside(v[0], v[1], v[2]);
+      if (inside == isInside(beyond[0], beyond[1], beyond[2])) continue;
+      // Around the edge, by extractMesh's listing: a = v - u - w, then b, d and c = v.
+      std::array<std::array<int, 3>, 4> cells;
+      auto minus = [&](int dx, int dy, int dz) { return std::array<int, 3>{v[0] - dx, v[1] - dy, v[2] - dz}; };
+      if (axis == 0) cells = {minus(0, 1, 1), minus(0, 0, 1), v, minus(0, 1, 0)};
+      else if (axis == 1) cells = {minus(1, 0, 1), minus(1, 0, 0), v, minus(0, 0, 1)};
+      else cells = {minus(1, 1, 0), minus(0, 1, 0), v, minus(1, 0, 0)};
+      bool all = true;
+      for (const auto& cell : cells) all = all && isSurface(cell[0], cell[1], cell[2]);
+      if (!all) continue;
+      std::array<uint32_t, 4> index;
+      for (int q = 0; q < 4; ++q) {
+        const auto& cell = cells[q];
+        const int k = (v[0] - cell[0]) | ((v[1] - cell[1]) << 1) | ((v[2] - cell[2]) << 2);
+        index[q] = edgeVertex(cell[0], cell[1], cell[2], k, axis);
+      }
+      if (inside) emit(index[0], index[1], index[2], index[3]);
+      else emit(index[0], index[3], index[2], index[1]);
+    }
+  }
+
+  // Split as extractMesh splits: on the same world positions, so that both choose the same
+  // diagonal (in block coordinates the rounding differs and near-ties could go the other way).
+  void emit(uint32_t a, uint32_t b, uint32_t c, uint32_t d) {
+    const auto& p = world_;
+    if (detail::splitAlongAC(p[a], p[b], p[c], p[d])) {
+      mesh_.triangles.push_back({a, b, c});
+      mesh_.triangles.push_back({a, c, d});
+    } else {
+      mesh_.triangles.push_back({a, b, d});
+      mesh_.triangles.push_back({b, c, d});
+    }
+  }
+
+  const BlockVoxels& voxels_;
+  bool with_colors_;
+  float voxel_size_;
+  openvdb::Coord origin_;
+  LabeledMesh& mesh_;
+  std::vector<Eigen::Vector3f> world_;                          // per vertex
+  std::array<std::array<uint16_t, kCells>, kCells> surface_{};  // bit z: cell (x, y, z) carries a vertex
+  std::array<std::array<uint16_t, kSpan>, kSpan> inside_{};     // bit z: voxel observed and inside
+  std::array<int, kCells * kCells * kCells> first_vertex_{};    // -1: no vertex yet
+};
+
+}  // namespace
+
+std::vector<openvdb::Coord> blocksReadingLeaves(const std::vector<openvdb::Coord>& leaf_origins) {
+  std::vector<openvdb::Coord> blocks;
+  blocks.reserve(leaf_origins.size() * 8);
+  for (const openvdb::Coord& leaf : leaf_origins)
+    for (int d = 0; d < 8; ++d)
+      blocks.push_back(leaf.offsetBy(-(d & 1) * kDim, -((d >> 1) & 1) * kDim, -(d >> 2) * kDim));
+  std::sort(blocks.begin(), blocks.end());
+  blocks.erase(std::unique(blocks.begin(), blocks.end()), blocks.end());
+  return blocks;
+}
+
+std::vector<BlockMesh> extractBlockMeshes(const volume::LabeledVolume& volume,
+                                          const std::vector<openvdb::Coord>& origins) {
+  std::vector<BlockMesh> blocks(origins.size());
+  const bool with_colors = volume.hasColor() && volume.colorGrid() != nullptr;
+  const auto voxel_size = static_cast<float>(volume.voxelSize());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, origins.size(), kBlocksPerTask),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      const auto geometry = volume.geometryGrid().getConstAccessor();
+                      std::optional<volume::ColorGrid::ConstAccessor> colors;
+                      if (with_colors) colors.emplace(volume.colorGrid()->getConstAccessor());
+                      BlockVoxels voxels;
+                      for (std::size_t i = range.begin(); i < range.end(); ++i) {
+                        blocks[i].origin = origins[i];
+                        if (!voxels.gather(geometry, colors ? &*colors : nullptr, origins[i])) continue;
+                        BlockMesher{voxels, with_colors, voxel_size, blocks[i]};
+                      }
+                    });
+  return blocks;
+}
+
+}  // namespace semfuse::render
