@@ -61,6 +61,8 @@ Qos status() { return std::move(Qos().reliable(kMaxBlockingTime).keepLast(1).tra
 Qos legend() { return std::move(Qos().reliable(kMaxBlockingTime).keepLast(1).transientLocal()); }
 Qos service() { return std::move(Qos().reliable(kMaxBlockingTime).keepLast(10).volatileDurability()); }
 Qos sensorData() { return std::move(Qos().bestEffort().keepLast(5).volatileDurability()); }
+Qos mapUpdates() { return std::move(Qos().reliable(kMaxBlockingTime).keepLast(8).volatileDurability()); }
+Qos mapCloud() { return std::move(Qos().reliable(kMaxBlockingTime).keepLast(1).transientLocal()); }
 
 }  // namespace qos
 }  // namespace semfuse::dds

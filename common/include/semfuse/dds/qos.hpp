@@ -51,6 +51,11 @@ Qos status();      // reliable, transient-local, keep-last 1: late joiners get t
 Qos legend();      // reliable, transient-local, keep-last 1
 Qos service();     // reliable, keep-last 10, volatile: rmw's default for services
 Qos sensorData();  // best-effort, keep-last 5, volatile: ROS 2 sensor-data profile
+// Map updates and markers: reliable, keep-last 8, volatile. A follower that falls further behind
+// misses updates and asks map_blocks for what it lacks; the server's writer blocks at most
+// kMaxBlockingTime on it, on its own thread.
+Qos mapUpdates();
+Qos mapCloud();  // reliable, transient-local, keep-last 1: a late RViz gets the surface at once
 
 }  // namespace qos
 }  // namespace semfuse::dds

@@ -11,6 +11,9 @@ inline constexpr const char* kSegmentations = "rt/semfuse/segmentations";
 inline constexpr const char* kPoses = "rt/semfuse/poses";
 inline constexpr const char* kStatus = "rt/semfuse/status";
 inline constexpr const char* kLabels = "rt/semfuse/labels";
+inline constexpr const char* kMapUpdates = "rt/semfuse/map_updates";  // semfuse MapUpdate
+inline constexpr const char* kMapMarkers = "rt/semfuse/map_markers";  // visualization_msgs/MarkerArray
+inline constexpr const char* kMapCloud = "rt/semfuse/map_cloud";      // sensor_msgs/PointCloud2
 
 struct ServiceTopics {
   std::string request;
@@ -29,5 +32,6 @@ inline ServiceTopics region() { return service("region"); }
 inline ServiceTopics objects() { return service("objects"); }
 inline ServiceTopics mesh() { return service("mesh"); }
 inline ServiceTopics admin() { return service("admin"); }
+inline ServiceTopics mapBlocks() { return service("map_blocks"); }
 
 }  // namespace semfuse::dds::topics

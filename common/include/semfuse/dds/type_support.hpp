@@ -11,6 +11,7 @@
 #include "srv.h"
 #include "std_msgs.h"
 #include "tf2_msgs.h"
+#include "visualization_msgs.h"
 
 namespace semfuse::dds {
 
@@ -36,6 +37,11 @@ SEMFUSE_DDS_TYPE_SUPPORT(sensor_msgs_msg_dds__CompressedImage_)
 SEMFUSE_DDS_TYPE_SUPPORT(sensor_msgs_msg_dds__RegionOfInterest_)
 SEMFUSE_DDS_TYPE_SUPPORT(sensor_msgs_msg_dds__CameraInfo_)
 SEMFUSE_DDS_TYPE_SUPPORT(tf2_msgs_msg_dds__TFMessage_)
+SEMFUSE_DDS_TYPE_SUPPORT(geometry_msgs_msg_dds__Pose_)
+SEMFUSE_DDS_TYPE_SUPPORT(sensor_msgs_msg_dds__PointField_)
+SEMFUSE_DDS_TYPE_SUPPORT(sensor_msgs_msg_dds__PointCloud2_)
+SEMFUSE_DDS_TYPE_SUPPORT(visualization_msgs_msg_dds__Marker_)
+SEMFUSE_DDS_TYPE_SUPPORT(visualization_msgs_msg_dds__MarkerArray_)
 // semfuse messages
 SEMFUSE_DDS_TYPE_SUPPORT(semfuse_msg_dds__CameraIntrinsics_)
 SEMFUSE_DDS_TYPE_SUPPORT(semfuse_msg_dds__Frame_)
@@ -50,6 +56,8 @@ SEMFUSE_DDS_TYPE_SUPPORT(semfuse_msg_dds__LabelLegend_)
 SEMFUSE_DDS_TYPE_SUPPORT(semfuse_msg_dds__VoxelSample_)
 SEMFUSE_DDS_TYPE_SUPPORT(semfuse_msg_dds__LabelCount_)
 SEMFUSE_DDS_TYPE_SUPPORT(semfuse_msg_dds__ObjectInstance_)
+SEMFUSE_DDS_TYPE_SUPPORT(semfuse_msg_dds__MeshBlock_)
+SEMFUSE_DDS_TYPE_SUPPORT(semfuse_msg_dds__MapUpdate_)
 // semfuse services
 SEMFUSE_DDS_TYPE_SUPPORT(semfuse_srv_dds__Raycast_Request_)
 SEMFUSE_DDS_TYPE_SUPPORT(semfuse_srv_dds__Raycast_Response_)
@@ -63,6 +71,8 @@ SEMFUSE_DDS_TYPE_SUPPORT(semfuse_srv_dds__Mesh_Request_)
 SEMFUSE_DDS_TYPE_SUPPORT(semfuse_srv_dds__Mesh_Response_)
 SEMFUSE_DDS_TYPE_SUPPORT(semfuse_srv_dds__Admin_Request_)
 SEMFUSE_DDS_TYPE_SUPPORT(semfuse_srv_dds__Admin_Response_)
+SEMFUSE_DDS_TYPE_SUPPORT(semfuse_srv_dds__MapBlocks_Request_)
+SEMFUSE_DDS_TYPE_SUPPORT(semfuse_srv_dds__MapBlocks_Response_)
 
 #undef SEMFUSE_DDS_TYPE_SUPPORT
 
