@@ -123,6 +123,8 @@ Status Mapper::load(const std::filesystem::path& path) {
                          "' rule; this server runs '" + volume::labelRuleName(mine.label_rule) +
                          "' (start it with --label-rule " + volume::labelRuleName(params.label_rule) + ")");
   std::unique_lock lock(mutex_);
+  // Whoever derives state from the map's changes (the distance field) sees everything change.
+  loaded.value().volume.continueRevisionsFrom(volume_.revision());
   volume_ = std::move(loaded.value().volume);
   tracker_.reset();  // tracking restarts from the poses the next frames carry
   ++revision_;

@@ -10,6 +10,7 @@
 #include <CLI/App.hpp>
 
 #include "fusion_limits.hpp"
+#include "map_update_config.hpp"
 #include "query_limits.hpp"
 #include "ros_config.hpp"
 #include "semfuse/core/legend.hpp"
@@ -49,6 +50,9 @@ struct ServerConfig {
 
   // ROS 2 standard topics as input, /tf as output (--ros-ingest, YAML section `ros:`)
   RosIngestConfig ros;
+
+  // The live mesh for viewers, RViz and Foxglove (--map-updates.*, YAML section `map-updates:`)
+  MapUpdateConfig map_updates;
 };
 
 // Declares every option on `app` (documented for --help), bound to `config`.

@@ -1,0 +1,91 @@
+#pragma once
+// MapUpdater: keeps the live mesh (MeshBlockStore) up to date with the map and hands each round's
+// changed blocks to a sink that publishes them (server/dds/map_update_publisher.hpp), on its own
+// thread (sf-map-updates) at --map-updates.rate, off the fusion thread's path.
+//
+// A round asks the volume which leaves changed since the revision the store is up to date with
+// (LabeledVolume::changesSince), meshes the blocks that read them (render/mesh_blocks.hpp) in
+// batches under the map's shared lock, keeps the blocks whose mesh differs, and publishes them as
+// one update, in parts when large. The work follows the change, not the map: a block is meshed
+// only when one of the eight leaves it reads was written. After a clear or a load (`all`) the
+// store starts over and every block is meshed.
+//
+// Nobody listening (no reader of the sink's topics, no map_blocks request for
+// --map-updates.idle-after) costs nothing: rounds are skipped, and the first round after that
+// catches up with everything that changed meanwhile.
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <mutex>
+#include <thread>
+
+#include "map_access.hpp"
+#include "map_update_config.hpp"
+#include "mesh_block_store.hpp"
+#include "semfuse/core/map_blocks.hpp"
+
+namespace semfuse::server {
+
+class MapUpdater {
+ public:
+  class Sink {
+   public:
+    virtual ~Sink() = default;
+    // Whether anyone follows the live mesh now.
+    virtual bool listening() const = 0;
+    // One part of an update, on the updater's thread.
+    virtual void publish(const MapUpdate& update) = 0;
+  };
+
+  struct Round {
+    bool skipped = false;  // nobody listening
+    std::size_t blocks_meshed = 0;
+    std::size_t blocks_sent = 0;  // with a changed mesh
+    std::size_t parts = 0;        // samples published (0 when nothing changed)
+    double locked_ms = 0;         // time the map's shared lock was held, over all batches
+    double total_ms = 0;
+  };
+
+  struct Totals {
+    uint64_t rounds = 0, skipped = 0, updates = 0, parts = 0, blocks_meshed = 0, blocks_sent = 0;
+    uint64_t payload_bytes = 0;  // of the blocks sent
+    double locked_ms = 0, busy_ms = 0;
+  };
+
+  MapUpdater(const MapAccess& map, const MapUpdateConfig& config, Sink& sink);
+  ~MapUpdater();
+
+  void start();  // the thread; nothing when the rate is 0
+  void stop();
+
+  // One round now (the thread's work; tests call it directly).
+  Round update();
+  // A map_blocks request came: follow the map for the next idle_after_s even without readers.
+  void touch();
+
+  const MeshBlockStore& store() const { return store_; }
+  Totals totals() const;
+
+ private:
+  bool wanted() const;
+  void run();
+  std::size_t publishParts(std::vector<MeshBlock> blocks, bool cleared);
+
+  const MapAccess& map_;
+  MapUpdateConfig config_;
+  Sink& sink_;
+  MeshBlockStore store_;
+  uint64_t published_revision_ = 0;  // revision of the last update published (0 = none)
+  std::atomic<int64_t> touched_at_ns_{0};
+
+  mutable std::mutex totals_mutex_;
+  Totals totals_;
+
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  bool running_ = false;  // under mutex_
+  std::thread thread_;
+};
+
+}  // namespace semfuse::server
