@@ -76,9 +76,14 @@ FusionServer::FusionServer(ServerConfig config)
                                          [this](const Frame& f, const FrameOutcome& o) { publishPose(f, o); });
   ingest_ = std::make_unique<Ingest>(participant_, frames_, *fusion_, state_, legend_);
   if (config_.ros.enabled) ros_ingest_ = std::make_unique<RosIngest>(participant_, config_.ros, frames_, state_);
+  if (config_.map_updates.rate_hz > 0) {
+    map_access_ = std::make_unique<MapperAccess>(*mapper_);
+    map_updates_ = std::make_unique<MapUpdatePublisher>(participant_, *map_access_, config_.map_updates, legend_,
+                                                        config_.ros.world_frame);
+  }
   services_ = std::make_unique<Services>(
       participant_, config_, *mapper_, *fusion_, state_, [this] { return snapshot(); },
-      [this](const std::string& path) { return saveMap(path); });
+      [this](const std::string& path) { return saveMap(path); }, map_updates_ ? &map_updates_->updater() : nullptr);
 }
 
 FusionServer::~FusionServer() { stop(); }
@@ -94,7 +99,8 @@ FusionServer::~FusionServer() { stop(); }
 // 3. The fusion thread finishes the queued frames, segmentations and tasks (at most 5 s) and
 //    ends. The services keep answering queries meanwhile.
 // 4. The services stop: each finishes the request in hand (none can be waiting on the fusion
-//    thread any more) and answers those still waiting UNAVAILABLE (dds::RpcServer::stop).
+//    thread any more) and answers those still waiting UNAVAILABLE (dds::RpcServer::stop). The
+//    map updates' thread stops before them (map_blocks only reads its store).
 // run() then saves the map and publishes a last status; the DDS entities (writers, topics,
 // participant) go last, as members, after everything that writes with them has stopped.
 void FusionServer::stop() {
@@ -107,6 +113,7 @@ void FusionServer::stop() {
     fusion_->drain(std::chrono::seconds(5));
     fusion_->stop();
   }
+  if (map_updates_) map_updates_->stop();
   services_.reset();
 }
 
@@ -114,6 +121,7 @@ int FusionServer::run() {
   auto encoded_legend = wire::encodeLegend(legend_);
   if (Status ok = legend_writer_.write(encoded_legend.msg()); !ok) spdlog::warn("legend: {}", ok.error());
 
+  if (map_updates_) map_updates_->start();
   fusion_->start();
   ingest_->start();
   if (ros_ingest_) ros_ingest_->start();

@@ -10,7 +10,9 @@
 #include "frame_queue.hpp"
 #include "fusion_loop.hpp"
 #include "ingest.hpp"
+#include "map_update_publisher.hpp"
 #include "mapper.hpp"
+#include "mapper_access.hpp"
 #include "process_memory.hpp"
 #include "ros_ingest.hpp"
 #include "semfuse/dds/participant.hpp"
@@ -56,6 +58,8 @@ class FusionServer {
   std::unique_ptr<Ingest> ingest_;
   std::unique_ptr<RosIngest> ros_ingest_;  // with --ros-ingest only
   std::unique_ptr<Services> services_;
+  std::unique_ptr<MapperAccess> map_access_;         // what the map updates read
+  std::unique_ptr<MapUpdatePublisher> map_updates_;  // null with --map-updates.rate 0
 
   dds::Topic<semfuse_msg_dds__TrackedPose_> pose_topic_;
   dds::Topic<semfuse_msg_dds__ServerStatus_> status_topic_;

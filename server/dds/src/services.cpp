@@ -34,7 +34,7 @@ Services::Server<Codec> Services::serve(const dds::Participant& participant, con
 }
 
 Services::Services(const dds::Participant& participant, const ServerConfig& config, Mapper& mapper, FusionLoop& fusion,
-                   ServerState& state, SnapshotFn snapshot, SaveFn save)
+                   ServerState& state, SnapshotFn snapshot, SaveFn save, MapUpdater* map_updates)
     : state_(state), map_(mapper) {
   using namespace std::chrono_literals;
   limits_ = config.queries;
@@ -75,6 +75,12 @@ Services::Services(const dds::Participant& participant, const ServerConfig& conf
   admin_server_ = serve<wire::AdminCodec>(
       participant, topics::admin(), [this](const AdminRequest& request) { return handleAdmin(request, admin_); },
       /*count_refusals=*/false);
+  const uint32_t page_bytes = config.map_updates.page_bytes;
+  map_blocks_server_ = serve<wire::MapBlocksCodec>(
+      participant, topics::mapBlocks(), [map_updates, page_bytes](const MapBlocksRequest& request) {
+        if (map_updates) map_updates->touch();  // someone follows the mesh: keep it up to date
+        return handleMapBlocks(request, map_updates ? &map_updates->store() : nullptr, page_bytes);
+      });
 }
 
 Services::~Services() = default;

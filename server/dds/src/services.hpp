@@ -1,7 +1,7 @@
 #pragma once
-// The DDS adapter of the query services (raycast, labels_at, region, objects, mesh, admin): one
-// dds::RpcServer thread per service that decodes each request with its codec
-// (common/wire/service_codecs.hpp), calls the service's handler (service_handlers.hpp: no DDS),
+// The DDS adapter of the query services (raycast, labels_at, region, objects, mesh, admin,
+// map_blocks): one dds::RpcServer thread per service that decodes each request with its codec
+// (common/wire/service_codecs.hpp, map_update_codecs.hpp), calls the service's handler (service_handlers.hpp: no DDS),
 // encodes the reply and writes it. Every request gets a reply: one that does not decode gets
 // INVALID_ARGUMENT and the decoder's message. Refused queries are counted in the server's
 // status (invalid_query), with their messages; a failed admin command is recorded as an error of
@@ -13,11 +13,14 @@
 
 #include "fusion_loop.hpp"
 #include "held_meshes.hpp"
+#include "map_blocks_handler.hpp"
+#include "map_updater.hpp"
 #include "mapper.hpp"
 #include "mapper_access.hpp"
 #include "semfuse/dds/participant.hpp"
 #include "semfuse/dds/rpc.hpp"
 #include "semfuse/dds/topics.hpp"
+#include "semfuse/wire/map_update_codecs.hpp"
 #include "semfuse/wire/service_codecs.hpp"
 #include "server_config.hpp"
 #include "server_state.hpp"
@@ -30,8 +33,9 @@ class Services {
   using SnapshotFn = std::function<ServerStatus()>;
   using SaveFn = std::function<Status(const std::string& path)>;
 
+  // map_updates: the live mesh, whose store map_blocks pages (null: map_blocks answers UNAVAILABLE).
   Services(const dds::Participant& participant, const ServerConfig& config, Mapper& mapper, FusionLoop& fusion,
-           ServerState& state, SnapshotFn snapshot, SaveFn save);
+           ServerState& state, SnapshotFn snapshot, SaveFn save, MapUpdater* map_updates = nullptr);
   ~Services();
 
  private:
@@ -56,6 +60,7 @@ class Services {
   Server<wire::ObjectsCodec> objects_server_;
   Server<wire::MeshCodec> mesh_server_;
   Server<wire::AdminCodec> admin_server_;
+  Server<wire::MapBlocksCodec> map_blocks_server_;
 };
 
 }  // namespace semfuse::server
