@@ -19,9 +19,11 @@ packages=(
   iproute2 procps openssl tcpdump iceoryx python3  # deploy profiles, PKI and tests (netns, ps, capture, shm, status JSON)
   clang libclang-rt-14-dev  # deploy/fuzz.sh: libFuzzer + sanitizers
   clang-format  # deploy/check-format.sh (ctest source_format)
+  libboost-dev  # semfuse-viewer: Boost.Beast (HTTP + WebSocket), header-only
+  chromium  # tests/viewer: the viewer's page in headless Chromium
   libfastrtps-dev fastdds-tools fastddsgen  # tests/interop: an independent DDS peer (fastddsgen pulls in a JRE)
 )
-command -v npm >/dev/null 2>&1 || packages+=(npm)  # tests/interop/foxglove; nodesource's nodejs ships its own npm
+command -v npm >/dev/null 2>&1 || packages+=(npm)  # three.js for semfuse-viewer, tests/interop/foxglove; nodesource's nodejs ships its own npm
 
 dry_run=0
 [[ "${1:-}" == "--dry-run" ]] && dry_run=1

@@ -6,8 +6,8 @@
 #include <filesystem>
 #include <iostream>
 
-#include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
 
 #include "semfuse/cli/command_line.hpp"
 #include "semfuse/cli/exit_codes.hpp"
@@ -60,7 +60,8 @@ int main(int argc, char** argv) {
   }
 
   cli::installStopHandler();
-  dds::Participant participant(common.domain_id < 0 ? DDS_DOMAIN_DEFAULT : static_cast<dds_domainid_t>(common.domain_id));
+  dds::Participant participant(common.domain_id < 0 ? DDS_DOMAIN_DEFAULT
+                                                    : static_cast<dds_domainid_t>(common.domain_id));
   client::MapClient map(participant);
   client::MapFollower follower(participant);
   viewer::ViewerHub hub(follower, map, *fallback);

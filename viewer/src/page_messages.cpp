@@ -75,14 +75,18 @@ std::string jsonString(const std::string& text) {
   std::string out = "\"";
   for (const char c : text) {
     switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
+      case '"':
+        out += "\\\"";
+        break;
+      case '\\':
+        out += "\\\\";
+        break;
+      case '\n':
+        out += "\\n";
+        break;
       default:
-        if (static_cast<unsigned char>(c) < 0x20)
-          out += fmt::format("\\u{:04x}", static_cast<unsigned>(c));
-        else
-          out += c;
+        if (static_cast<unsigned char>(c) < 0x20) out += fmt::format("\\u{:04x}", static_cast<unsigned>(c));
+        else out += c;
     }
   }
   return out + "\"";
@@ -92,9 +96,8 @@ std::string legendJson(const LabelLegend& legend) {
   std::string labels;
   for (const LabelInfo& label : legend.labels) {
     if (!labels.empty()) labels += ",";
-    labels += fmt::format(R"({{"id":{},"name":{},"rgb":[{},{},{}],"background":{}}})", label.id,
-                          jsonString(label.name), label.rgb[0], label.rgb[1], label.rgb[2],
-                          legend.isBackground(label.id) ? "true" : "false");
+    labels += fmt::format(R"({{"id":{},"name":{},"rgb":[{},{},{}],"background":{}}})", label.id, jsonString(label.name),
+                          label.rgb[0], label.rgb[1], label.rgb[2], legend.isBackground(label.id) ? "true" : "false");
   }
   return fmt::format(R"({{"type":"legend","name":{},"labels":[{}]}})", jsonString(legend.name), labels);
 }

@@ -18,9 +18,9 @@
 
 #include <Eigen/Core>
 
+#include "page_messages.hpp"
 #include "semfuse/client/map_client.hpp"
 #include "semfuse/client/map_follower.hpp"
-#include "page_messages.hpp"
 #include "web_server.hpp"
 
 namespace semfuse::viewer {

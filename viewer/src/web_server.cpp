@@ -6,13 +6,13 @@
 #include <thread>
 #include <utility>
 
+#include <spdlog/spdlog.h>
 #include <boost/asio/ip/tcp.hpp>
 #include <boost/asio/post.hpp>
 #include <boost/asio/strand.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
 #include <boost/beast/websocket.hpp>
-#include <spdlog/spdlog.h>
 
 namespace semfuse::viewer {
 namespace {
@@ -38,8 +38,7 @@ std::string contentType(const std::filesystem::path& path) {
 
 class Session final : public WebSocketSession, public std::enable_shared_from_this<Session> {
  public:
-  Session(tcp::socket socket, const WebServer::Handlers& handlers)
-      : ws_(std::move(socket)), handlers_(handlers) {}
+  Session(tcp::socket socket, const WebServer::Handlers& handlers) : ws_(std::move(socket)), handlers_(handlers) {}
 
   void accept(http::request<http::string_body> request) {
     ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));

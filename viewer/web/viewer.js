@@ -202,7 +202,11 @@ function onPoses(poses) {
     view.path.push(new THREE.Vector3().setFromMatrixPosition(m));
     touched.add(view);
   }
-  for (const view of touched) view.line.geometry.setFromPoints(view.path);
+  for (const view of touched) {
+    // A new geometry each time: setFromPoints keeps an existing buffer's length.
+    view.line.geometry.dispose();
+    view.line.geometry = new THREE.BufferGeometry().setFromPoints(view.path);
+  }
   dirty = true;
 }
 
@@ -332,6 +336,13 @@ function frame(t) {
   document.body.dataset.poses = String([...cameraViews.values()].reduce((n, v) => n + v.path.length, 0));
 }
 requestAnimationFrame(frame);
+
+// Where a world point lands on the page, in CSS pixels (for tests and the console).
+window.semfuseProject = (x, y, z) => {
+  const p = new THREE.Vector3(x, y, z).project(camera);
+  const rect = renderer.domElement.getBoundingClientRect();
+  return [rect.left + (p.x + 1) / 2 * rect.width, rect.top + (1 - p.y) / 2 * rect.height];
+};
 
 // ---- connection ----
 let socket = null;

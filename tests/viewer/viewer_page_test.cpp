@@ -1,0 +1,183 @@
+// semfuse-viewer end to end: a real server, the synthetic camera, the ground-truth segmenter and
+// the viewer over loopback DDS; headless Chromium opens the page (page_snapshot.mjs) and the test
+// checks what it shows: the table's and the floor's legend colours where the room's table top and
+// floor must appear on screen, every large label of the room in the picture and in the legend,
+// the frame counter advancing to the last frame, one camera path of every integrated frame. The
+// screenshot stays as tests/viewer/viewer_page.png in the build tree.
+#include <sys/socket.h>
+
+#include <netinet/in.h>
+
+#include <chrono>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+
+#include "semfuse/core/legend.hpp"
+#include "server_harness.hpp"
+
+using namespace semfuse;
+using namespace semfuse::testing;
+using namespace std::chrono_literals;
+
+namespace {
+
+constexpr int kFrames = 60;  // the whole orbit, seen in 60 views
+
+// A port nobody listens on now (the viewer binds it right after).
+int freePort() {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  socklen_t size = sizeof(address);
+  ::bind(fd, reinterpret_cast<sockaddr*>(&address), size);
+  ::getsockname(fd, reinterpret_cast<sockaddr*>(&address), &size);
+  ::close(fd);
+  return ntohs(address.sin_port);
+}
+
+// Waits for the child's exit; its exit code, or -1 after SIGKILL at the timeout.
+int waitExit(ChildProcess& child, std::chrono::seconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  while (child.running() && std::chrono::steady_clock::now() < deadline) std::this_thread::sleep_for(100ms);
+  return child.stop(9 /* SIGKILL */, 1000);
+}
+
+struct PageFacts {
+  std::map<std::string, double> values;     // blocks, poses, frames
+  std::vector<int> frames_seen;             // counter values in the order the page showed them
+  std::vector<std::string> legend;          // "name count" rows
+  std::map<std::string, cv::Point> points;  // name -> pixel
+};
+
+PageFacts readFacts(const std::string& path) {
+  PageFacts facts;
+  std::ifstream in(path);
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream row(line);
+    std::string key;
+    row >> key;
+    if (key == "frames_seen") {
+      for (int n; row >> n;) facts.frames_seen.push_back(n);
+    } else if (key == "legend") {
+      std::string rest;
+      std::getline(row >> std::ws, rest);
+      facts.legend.push_back(rest);
+    } else if (key == "point") {
+      std::string name;
+      double x = 0, y = 0;
+      row >> name >> x >> y;
+      facts.points[name] = {static_cast<int>(x), static_cast<int>(y)};
+    } else {
+      row >> facts.values[key];
+    }
+  }
+  return facts;
+}
+
+cv::Vec3b bgr(const LabelLegend& legend, LabelId id) {
+  const auto rgb = legend.colorOf(id);
+  return {rgb[2], rgb[1], rgb[0]};
+}
+
+int countColor(const cv::Mat& image, const cv::Vec3b& color) {
+  int n = 0;
+  image.forEach<cv::Vec3b>([&](const cv::Vec3b& p, const int*) {
+    if (p == color) __atomic_add_fetch(&n, 1, __ATOMIC_RELAXED);
+  });
+  return n;
+}
+
+// Share of the pixels within 4 of `at` that have exactly `color`.
+double shareAround(const cv::Mat& image, cv::Point at, const cv::Vec3b& color) {
+  int hits = 0, all = 0;
+  for (int dy = -4; dy <= 4; ++dy)
+    for (int dx = -4; dx <= 4; ++dx) {
+      const cv::Point p = at + cv::Point(dx, dy);
+      if (p.x < 0 || p.y < 0 || p.x >= image.cols || p.y >= image.rows) continue;
+      ++all;
+      hits += image.at<cv::Vec3b>(p) == color ? 1 : 0;
+    }
+  return all ? static_cast<double>(hits) / all : 0.0;
+}
+
+}  // namespace
+
+TEST(ViewerPage, ShowsTheRoomGrowWithItsLabelsLegendAndCounters) {
+  const dds_domainid_t domain = serverTestDomain();
+  ServerHarness h(domain);
+  h.startServer({"--legend", "synthetic", "--voxel-size", "0.03", "--truncation", "0.12", "--map-updates.rate", "4"});
+  const std::vector<std::string> dds{"--domain-id",     std::to_string(domain), "--dds-profile",
+                                     loopbackProfile(), "--log-level",          "warn"};
+  auto with = [&](std::vector<std::string> args) {
+    args.insert(args.begin() + 1, dds.begin(), dds.end());
+    return args;
+  };
+
+  const int port = freePort();
+  ChildProcess viewer(with({SEMFUSE_VIEWER_EXE, "--port", std::to_string(port), "--legend", "synthetic"}));
+  ChildProcess segmenter(with({SEMFUSE_SEGMENTER_EXE, "--backend", "gt"}));
+
+  const std::string dir = std::string(SEMFUSE_BINARY_DIR) + "/tests/viewer";
+  const std::string png = dir + "/viewer_page.png", facts_file = dir + "/viewer_page_facts.txt";
+  std::remove(png.c_str());
+  std::remove(facts_file.c_str());
+  // Points of the room (common/synthetic/room.cpp) in plain view from above: the table top
+  // beside the small sphere, and open floor between the table and the near wall.
+  ChildProcess browser({SEMFUSE_NODE_EXE, "--experimental-websocket",
+                        "--no-warnings",  std::string(SEMFUSE_SOURCE_DIR) + "/tests/viewer/page_snapshot.mjs",
+                        "--chromium",     SEMFUSE_CHROMIUM_EXE,
+                        "--url",          "http://127.0.0.1:" + std::to_string(port) + "/?flat=1",
+                        "--png",          png,
+                        "--facts",        facts_file,
+                        "--blocks",       "300",
+                        "--frames",       std::to_string(kFrames),
+                        "--timeout-s",    "150",
+                        "--point",        "table",
+                        "-0.1",           "-0.1",
+                        "0.75",           "--point",
+                        "floor",          "-1.0",
+                        "-0.9",           "0"});
+
+  ChildProcess camera(with({SEMFUSE_CAMERA_EXE, "--source", "synthetic", "--frames", std::to_string(kFrames), "--rate",
+                            "20", "--wait-server", "30"}));
+  ASSERT_EQ(waitExit(camera, 120s), 0) << "semfuse-camera failed";
+  ASSERT_EQ(waitExit(browser, 150s), 0) << "the page never showed the whole map (page_snapshot.mjs)";
+
+  const PageFacts facts = readFacts(facts_file);
+  EXPECT_EQ(facts.values.at("frames"), kFrames);
+  // The counter advanced while the camera ran, not only at the end.
+  ASSERT_GE(facts.frames_seen.size(), 3u);
+  EXPECT_TRUE(std::is_sorted(facts.frames_seen.begin(), facts.frames_seen.end()));
+  EXPECT_GE(facts.values.at("blocks"), 300);
+  EXPECT_EQ(facts.values.at("poses"), kFrames) << "one camera path point per integrated frame";
+
+  const LabelLegend legend = *builtinLegend("synthetic");
+  for (const char* name : {"floor", "wall", "table", "chair"}) {
+    bool listed = false;
+    for (const std::string& row : facts.legend) listed = listed || row.rfind(std::string(name) + " ", 0) == 0;
+    EXPECT_TRUE(listed) << name << " is missing from the page's legend";
+  }
+
+  const cv::Mat image = cv::imread(png, cv::IMREAD_COLOR);
+  ASSERT_FALSE(image.empty()) << png;
+  EXPECT_GE(shareAround(image, facts.points.at("table"), bgr(legend, 4)), 0.8)
+      << "table top at " << facts.points.at("table");
+  EXPECT_GE(shareAround(image, facts.points.at("floor"), bgr(legend, 1)), 0.8)
+      << "floor at " << facts.points.at("floor");
+  // Each large object of the room covers a good part of the picture in its legend colour.
+  const std::map<LabelId, int> least{{1, 20000}, {2, 5000}, {4, 3000}, {5, 1000}};
+  for (const auto& [id, pixels] : least) EXPECT_GE(countColor(image, bgr(legend, id)), pixels) << legend.find(id)->name;
+
+  EXPECT_EQ(viewer.stop(), 0);
+  segmenter.stop();
+  EXPECT_EQ(h.stopServer(), 0);
+}
