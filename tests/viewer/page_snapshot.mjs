@@ -110,6 +110,19 @@ for (const [name, x, y, z] of args.points) {
   const p = await evaluate(`window.semfuseProject(${x}, ${y}, ${z})`);
   lines.push(`point ${name} ${p[0]} ${p[1]}`);
 }
+// A click on the first point: the page asks labels_at there and shows the answer.
+if (args.points.length > 0) {
+  const [, x, y, z] = args.points[0];
+  const [px, py] = await evaluate(`window.semfuseProject(${x}, ${y}, ${z})`);
+  for (const type of ['mousePressed', 'mouseReleased'])
+    await call('Input.dispatchMouseEvent', { type, x: px, y: py, button: 'left', clickCount: 1 });
+  let probe = '';
+  for (let i = 0; i < 50 && !/^label /m.test(probe); ++i) {
+    await sleep(200);
+    probe = await evaluate(`document.getElementById('probe').textContent`);
+  }
+  for (const row of probe.split('\n')) lines.push(`probe ${row}`);
+}
 writeFileSync(args.facts, lines.join('\n') + '\n');
 socket.close();
 browser.removeListener('exit', browser.onExit);

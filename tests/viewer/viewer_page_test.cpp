@@ -1,9 +1,10 @@
 // semfuse-viewer end to end: a real server, the synthetic camera, the ground-truth segmenter and
 // the viewer over loopback DDS; headless Chromium opens the page (page_snapshot.mjs) and the test
-// checks what it shows: the table's and the floor's legend colours where the room's table top and
-// floor must appear on screen, every large label of the room in the picture and in the legend,
-// the frame counter advancing to the last frame, one camera path of every integrated frame. The
-// screenshot stays as tests/viewer/viewer_page.png in the build tree.
+// checks what it shows: the table's and the floor's legend colours where the room's table top
+// and floor must appear on screen, every large label of the room in the picture and in the
+// legend, the frame counter advancing to the last frame, one camera path point per integrated
+// frame, and a click on the table top answered as table (labels_at). The screenshot stays as
+// tests/viewer/viewer_page.png in the build tree.
 #include <sys/socket.h>
 
 #include <netinet/in.h>
@@ -55,6 +56,7 @@ struct PageFacts {
   std::vector<int> frames_seen;             // counter values in the order the page showed them
   std::vector<std::string> legend;          // "name count" rows
   std::map<std::string, cv::Point> points;  // name -> pixel
+  std::vector<std::string> probe;           // the page's answer to a click on the first point
 };
 
 PageFacts readFacts(const std::string& path) {
@@ -71,6 +73,10 @@ PageFacts readFacts(const std::string& path) {
       std::string rest;
       std::getline(row >> std::ws, rest);
       facts.legend.push_back(rest);
+    } else if (key == "probe") {
+      std::string rest;
+      std::getline(row >> std::ws, rest);
+      facts.probe.push_back(rest);
     } else if (key == "point") {
       std::string name;
       double x = 0, y = 0;
@@ -166,6 +172,11 @@ TEST(ViewerPage, ShowsTheRoomGrowWithItsLabelsLegendAndCounters) {
     for (const std::string& row : facts.legend) listed = listed || row.rfind(std::string(name) + " ", 0) == 0;
     EXPECT_TRUE(listed) << name << " is missing from the page's legend";
   }
+
+  // A click on the table top: labels_at answers there with the table and its confidence.
+  bool table = false;
+  for (const std::string& row : facts.probe) table = table || row.rfind("label table (4)", 0) == 0;
+  EXPECT_TRUE(table) << "the page's answer to a click on the table: " << ::testing::PrintToString(facts.probe);
 
   const cv::Mat image = cv::imread(png, cv::IMREAD_COLOR);
   ASSERT_FALSE(image.empty()) << png;
