@@ -14,11 +14,14 @@
 #include "../server/server_harness.hpp"
 #include "interop_support.hpp"
 #include "semfuse/dds/raw.hpp"
+#include "semfuse/dds/sample.hpp"
 #include "semfuse/wire/frame_codec.hpp"
 #include "semfuse/wire/message_codecs.hpp"
 #include "semfuse/wire/ros_codec.hpp"
+#include "semfuse/wire/ros_visualization.hpp"
 #include "sensor_msgs.h"
 #include "tf2_msgs.h"
+#include "visualization_msgs.h"
 
 using namespace semfuse;
 using namespace semfuse::testing;
@@ -332,6 +335,50 @@ TEST_F(FoxgloveInterop, FoxgloveReadsWhatSemfuseEncodes) {
   expectFoxgloveReads("semfuse/LabelLegend", dds::serialize(encoded_legend.msg()),
                       "name=\"tiny\"\nlabels.length=1\nlabels[0].id=3\nlabels[0].name=\"chair\"\nlabels[0].r=10\n"
                       "labels[0].g=20\nlabels[0].b=30\nbackground_ids.length=1\nbackground_ids[0]=1\n");
+}
+
+// The live mesh as RViz and Foxglove read it: a block's TRIANGLE_LIST marker in a MarkerArray
+// and the surface cloud with its label field, built by semfuse's encoders, read by foxglove.
+TEST_F(FoxgloveInterop, FoxgloveReadsTheLiveMeshMarkersAndCloud) {
+  MeshBlock block;
+  block.origin = {8, 0, -8};
+  block.revision = 5;
+  block.own_vertices = 3;
+  // Vertices at 0, 1 and 2 voxels from the origin along x, y and z (4096 units a voxel).
+  block.positions = {0, 0, 0, 0, 4096, 0, 0, 0, 8192};
+  block.normals = {0, 0, 127, 0, 0, 127, 0, 0, 127};
+  block.labels = {4, 4, 0};
+  block.scores = {2.0F, 3.0F, 0.5F};
+  block.colors = {10, 20, 30, 40, 50, 60, 70, 80, 90};
+  block.triangles = {0, 1, 2};
+  LabelLegend legend;
+  legend.labels = {{4, "table", {230, 150, 30}}};
+  wire::VisualizationStyle style;
+  style.frame_id = "map";
+  style.stamp = {3, 4};
+
+  dds::Sample<visualization_msgs_msg_dds__MarkerArray_> markers;
+  dds::resizeSequence(markers->markers, 1);
+  wire::fillBlockMarker(markers->markers._buffer[0], block, 7, 0.1, legend, style);
+  // Label 4 has its legend colour; the unlabeled vertex its own RGB.
+  expectFoxgloveReads("visualization_msgs/MarkerArray", dds::serialize(*markers),
+                      "markers.length=1\nmarkers[0].header.frame_id=\"map\"\nmarkers[0].header.stamp.sec=3\n"
+                      "markers[0].ns=\"semfuse_map\"\nmarkers[0].id=7\nmarkers[0].type=11\nmarkers[0].action=0\n"
+                      "markers[0].pose.orientation.w=1\nmarkers[0].scale.x=1\nmarkers[0].points.length=3\n"
+                      "markers[0].points[0].x=0.8\nmarkers[0].points[0].z=-0.8\nmarkers[0].points[1].y=0.1\n"
+                      "markers[0].points[2].z=-0.6000000000000001\nmarkers[0].colors.length=3\n"
+                      "markers[0].colors[0].r=0.9019607901573181\nmarkers[0].colors[2].b=0.3529411852359772\n"
+                      "markers[0].colors[2].a=1\n");
+
+  dds::Sample<sensor_msgs_msg_dds__PointCloud2_> cloud;
+  const std::vector<const MeshBlock*> blocks{&block};
+  wire::fillSurfaceCloud(*cloud, blocks, 0.1, legend, style);
+  // Point 0: label 4 at offset 16; point 2 (bytes 48-71): confidence 0.5 (0x3f000000) at 20.
+  expectFoxgloveReads("sensor_msgs/PointCloud2", dds::serialize(*cloud),
+                      "header.frame_id=\"map\"\nheight=1\nwidth=3\nfields.length=6\nfields[4].name=\"label\"\n"
+                      "fields[4].offset=16\nfields[4].datatype=6\nfields[4].count=1\nfields[5].name=\"confidence\"\n"
+                      "is_bigendian=false\npoint_step=24\nrow_step=72\ndata.length=72\nis_dense=true\n"
+                      "data[16]=4\ndata[17]=0\ndata[64]=0\ndata[71]=63\n");
 }
 
 // foxglove's bytes written as they are (dds_writecdr) into a running server: a ROS camera

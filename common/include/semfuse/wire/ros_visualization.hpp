@@ -16,8 +16,9 @@
 
 namespace semfuse::wire {
 
-// What colours a vertex: its label's legend colour (unlabeled vertices and labels the legend
-// lacks: the vertex's RGB, else grey), or its RGB (grey without colour).
+// What colours a vertex: its label's legend colour (LabelLegend::colorOf: a fixed colour per id
+// for labels the legend lacks; unlabeled vertices: the vertex's RGB, else grey), or its RGB (grey
+// without colour).
 enum class VertexColoring { kLabel, kRgb };
 
 struct VisualizationStyle {
