@@ -14,6 +14,7 @@
 #include "semfuse/cli/stop_signal.hpp"
 #include "semfuse/client/map_client.hpp"
 #include "semfuse/client/map_follower.hpp"
+#include "semfuse/core/logging.hpp"
 #include "semfuse/dds/participant.hpp"
 #include "viewer_hub.hpp"
 #include "web_server.hpp"
@@ -28,6 +29,36 @@ std::filesystem::path findWebRoot(const std::string& option) {
   for (const char* candidate : {SEMFUSE_VIEWER_BUILD_WEB_DIR, SEMFUSE_VIEWER_INSTALL_WEB_DIR})
     if (std::filesystem::exists(std::filesystem::path(candidate) / "index.html")) return candidate;
   return {};
+}
+
+// Follows the map and serves the page until Ctrl-C / SIGTERM.
+int serve(const cli::CommonOptions& common, const std::string& address, uint16_t port,
+          const std::filesystem::path& root, const LabelLegend& fallback) {
+  dds::Participant participant(common.domain_id < 0 ? DDS_DOMAIN_DEFAULT
+                                                    : static_cast<dds_domainid_t>(common.domain_id));
+  client::MapClient map(participant);
+  client::MapFollower follower(participant);
+  viewer::ViewerHub hub(follower, map, fallback);
+  follower.setListener([&hub](const client::MapFollowerChange& change) { hub.onChange(change); });
+
+  std::unique_ptr<viewer::WebServer> web;
+  try {
+    web = std::make_unique<viewer::WebServer>(address, port, root, hub.handlers());
+  } catch (const std::exception& e) {
+    spdlog::error("cannot listen on {}:{}: {}", address, port, e.what());
+    return cli::kExitFailure;
+  }
+  follower.start();
+  web->start();
+  // The one line scripts and tests read to find the page.
+  std::cout << "semfuse-viewer: http://" << address << ":" << web->port() << "/" << std::endl;
+  spdlog::info("serving {}", root.string());
+
+  while (!cli::stopRequested()) hub.tick(std::chrono::milliseconds(100));
+
+  web->stop();
+  follower.stop();
+  return 0;
 }
 
 }  // namespace
@@ -47,6 +78,10 @@ int main(int argc, char** argv) {
   app.add_option("--legend", legend_name, "legend for names and colours until the server publishes its own")
       ->capture_default_str();
   if (const int code = cli::parseCommandLine(app, argc, argv); code >= 0) return code;
+  if (Status logging = setupLogging("semfuse-viewer", common.log_level); !logging) {
+    spdlog::error("{}", logging.error());
+    return cli::kExitUsage;
+  }
 
   const std::filesystem::path root = findWebRoot(web_root);
   if (root.empty() || !std::filesystem::exists(root / "index.html")) {
@@ -60,29 +95,10 @@ int main(int argc, char** argv) {
   }
 
   cli::installStopHandler();
-  dds::Participant participant(common.domain_id < 0 ? DDS_DOMAIN_DEFAULT
-                                                    : static_cast<dds_domainid_t>(common.domain_id));
-  client::MapClient map(participant);
-  client::MapFollower follower(participant);
-  viewer::ViewerHub hub(follower, map, *fallback);
-  follower.setListener([&hub](const client::MapFollowerChange& change) { hub.onChange(change); });
-
-  std::unique_ptr<viewer::WebServer> web;
   try {
-    web = std::make_unique<viewer::WebServer>(address, port, root, hub.handlers());
-  } catch (const std::exception& e) {
-    spdlog::error("cannot listen on {}:{}: {}", address, port, e.what());
-    return cli::kExitUsage;
+    return serve(common, address, port, root, *fallback);
+  } catch (const std::exception& e) {  // DDS entities that cannot be created (bad profile, security)
+    spdlog::error("{}", e.what());
+    return cli::kExitFailure;
   }
-  follower.start();
-  web->start();
-  // The one line scripts and tests read to find the page.
-  std::cout << "semfuse-viewer: http://" << address << ":" << web->port() << "/" << std::endl;
-  spdlog::info("serving {} ", root.string());
-
-  while (!cli::stopRequested()) hub.tick(std::chrono::milliseconds(100));
-
-  web->stop();
-  follower.stop();
-  return 0;
 }
