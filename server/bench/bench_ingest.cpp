@@ -102,6 +102,9 @@ const bool registered = registerBench(
       command.add_option("--raycast-period-ms", options->raycast_period_ms, "one raycast every ... ms")
           ->capture_default_str();
       command.add_option("--domain-id", options->domain, "DDS domain (-1 = from the pid)")->capture_default_str();
+      command.add_flag("--follow-map", options->follow_map,
+                       "follow the live mesh (client::MapFollower) during the runs: the server's CPU with map "
+                       "updates, and the update latency");
       command.add_option("--server-arg", options->server_args,
                          "extra semfuse-server argument, repeatable (e.g. --server-arg=--color=false)");
       return [options] { return runIngestBench(*options); };

@@ -24,6 +24,7 @@ struct IngestOptions {
   double raycast_duration_s = 10.0;  // 0 = no raycast phase
   int raycast_period_ms = 100;       // a viewer refreshing at 10 Hz
   int domain = -1;                   // -1 = derived from the pid
+  bool follow_map = false;           // a MapFollower follows the live mesh during the runs
   std::vector<std::string> server_args;
 };
 

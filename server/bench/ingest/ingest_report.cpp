@@ -135,6 +135,16 @@ void printResults(const std::vector<RunResult>& runs, const IngestOptions& optio
   row(
       "server CPU (100 % = 1 core)", [](const RunResult& r) { return formatNumber(r.cpu_percent, 0) + " %"; },
       "of 200 % here");
+  if (options.follow_map) {
+    row(
+        "map update latency ms p50/p95",
+        [](const RunResult& r) {
+          if (r.update_latency_ms.count() == 0) return std::string("-");
+          return formatNumber(r.update_latency_ms.median(), 0) + " / " + formatNumber(r.update_latency_ms.p95(), 0) +
+                 " (" + std::to_string(r.map_updates) + " updates)";
+        },
+        "p50 <= 300 (frame integrated -> update received)");
+  }
   row(
       "server RSS peak MiB", [](const RunResult& r) { return formatNumber(r.rss_peak_mib, 0); }, "bounded");
   row(

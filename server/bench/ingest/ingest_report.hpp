@@ -28,6 +28,10 @@ struct RunResult {
   Timings raycast_ms;
   std::size_t raycast_failures = 0;
   std::string raycast_error;
+  // With --follow-map: frame integrated (its pose received) -> the first map update received
+  // that includes it, and the map updates received.
+  Timings update_latency_ms;
+  std::size_t map_updates = 0;
 };
 
 // The table of all runs (one column each, the target last), the busiest server threads, the

@@ -28,7 +28,18 @@ IngestRuns::IngestRuns(const IngestOptions& options, const Preloaded& data, dds_
       participant_(domain),
       frame_topic_(participant_, dds::topics::kFrames),
       map_(participant_),
-      poses_(participant_) {}
+      poses_(participant_) {
+  if (!options.follow_map) return;
+  follower_ = std::make_unique<client::MapFollower>(participant_);
+  follower_->setListener([this](const client::MapFollowerChange& change) {
+    if (change.source != client::MapFollowerChange::Source::kUpdate) return;
+    const double now_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::system_clock::now().time_since_epoch()).count();
+    std::lock_guard lock(updates_mutex_);
+    updates_.emplace_back(now_ms, change.state->header.frames_integrated);
+  });
+  follower_->start();
+}
 
 int IngestRuns::run(pid_t pid) {
   // One writer per camera, created once: a writer the server's reader has not discovered yet
@@ -90,6 +101,10 @@ Result<RunResult> IngestRuns::runOnce(pid_t pid, RssMonitor& rss, int cameras, d
   if (auto reset = map_.reset(std::chrono::seconds(30)); !reset) return makeError("reset: " + reset.error());
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
   poses_.take();  // nothing from before this run
+  {
+    std::lock_guard lock(updates_mutex_);
+    updates_.clear();
+  }
   auto before = stats();
   if (!before) return makeError(before.error());
   run.before = std::move(before).value();
@@ -147,7 +162,30 @@ Result<RunResult> IngestRuns::runOnce(pid_t pid, RssMonitor& rss, int cameras, d
   std::this_thread::sleep_for(std::chrono::milliseconds(300));  // the last poses in flight
   for (auto& p : poses_.take())
     if (p.camera_id.rfind(prefix, 0) == 0) run.poses.push_back(std::move(p));
+  if (follower_) measureUpdates(run);
   return run;
+}
+
+// The map was reset before the run, so the i-th integrated frame is the map's i-th: its update is
+// the first one received whose map holds at least i frames.
+void IngestRuns::measureUpdates(RunResult& run) {
+  std::this_thread::sleep_for(std::chrono::milliseconds(1000));  // the last round after the last frame
+  std::vector<std::pair<double, uint64_t>> updates;
+  {
+    std::lock_guard lock(updates_mutex_);
+    updates = updates_;
+  }
+  run.map_updates = updates.size();
+  std::vector<double> integrated_at;
+  for (const PoseRecord& p : run.poses)
+    if (p.integrated) integrated_at.push_back(p.received_ms);
+  std::sort(integrated_at.begin(), integrated_at.end());
+  std::size_t u = 0;
+  for (std::size_t i = 0; i < integrated_at.size(); ++i) {
+    while (u < updates.size() && updates[u].second < i + 1) ++u;
+    if (u == updates.size()) break;
+    run.update_latency_ms.add(std::max(0.0, updates[u].first - integrated_at[i]));
+  }
 }
 
 Result<client::ServerStatus> IngestRuns::drain(uint64_t expected_received) {

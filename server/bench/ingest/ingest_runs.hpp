@@ -9,6 +9,7 @@
 #include <atomic>
 #include <chrono>
 #include <memory>
+#include <mutex>
 #include <vector>
 
 #include "camera_stream.hpp"
@@ -18,6 +19,7 @@
 #include "preloaded_frames.hpp"
 #include "process_stats.hpp"
 #include "semfuse/client/map_client.hpp"
+#include "semfuse/client/map_follower.hpp"
 #include "semfuse/dds/participant.hpp"
 #include "semfuse/dds/topic.hpp"
 #include "semfuse/dds/writer.hpp"
@@ -40,6 +42,7 @@ class IngestRuns {
   Result<client::ServerStatus> drain(uint64_t expected_received);
   void raycastUntil(Clock::time_point end, const std::atomic<std::size_t>& camera0_index, RunResult& run);
   RunResult idleRaycasts();
+  void measureUpdates(RunResult& run);
 
   const IngestOptions& options_;
   const Preloaded& data_;
@@ -48,6 +51,11 @@ class IngestRuns {
   client::MapClient map_;
   PoseCollector poses_;
   std::vector<std::unique_ptr<dds::Writer<FrameMsg>>> writers_;
+  // With --follow-map: the live mesh's follower and when each update arrived (system clock ms,
+  // frames integrated in the map it brings).
+  std::unique_ptr<client::MapFollower> follower_;
+  std::mutex updates_mutex_;
+  std::vector<std::pair<double, uint64_t>> updates_;
 };
 
 }  // namespace semfuse::bench::ingest
