@@ -89,7 +89,7 @@ sign "$out/governance.xml" "$out/governance.p7s"
 topics_xml() { for t in "$@"; do printf '<topic>%s</topic>' "$t"; done; }
 publishes() {
   case "$1" in
-    server) topics_xml rt/semfuse/status rt/semfuse/labels rt/semfuse/poses 'rr/semfuse/*Reply' ;;
+    server) topics_xml rt/semfuse/status rt/semfuse/labels rt/semfuse/poses 'rt/semfuse/map_*' 'rr/semfuse/*Reply' ;;
     camera) topics_xml rt/semfuse/frames ;;
     segmenter) topics_xml rt/semfuse/segmentations ;;
     query) topics_xml 'rq/semfuse/*Request' ;;
@@ -100,7 +100,7 @@ subscribes() {
     server) topics_xml rt/semfuse/frames rt/semfuse/segmentations 'rq/semfuse/*Request' ;;
     camera) topics_xml rt/semfuse/status ;;
     segmenter) topics_xml rt/semfuse/frames ;;
-    query) topics_xml 'rr/semfuse/*Reply' rt/semfuse/status rt/semfuse/labels rt/semfuse/poses ;;
+    query) topics_xml 'rr/semfuse/*Reply' rt/semfuse/status rt/semfuse/labels rt/semfuse/poses 'rt/semfuse/map_*' ;;
   esac
 }
 

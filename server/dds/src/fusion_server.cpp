@@ -78,8 +78,14 @@ FusionServer::FusionServer(ServerConfig config)
   if (config_.ros.enabled) ros_ingest_ = std::make_unique<RosIngest>(participant_, config_.ros, frames_, state_);
   if (config_.map_updates.rate_hz > 0) {
     map_access_ = std::make_unique<MapperAccess>(*mapper_);
-    map_updates_ = std::make_unique<MapUpdatePublisher>(participant_, *map_access_, config_.map_updates, legend_,
-                                                        config_.ros.world_frame);
+    try {
+      map_updates_ = std::make_unique<MapUpdatePublisher>(participant_, *map_access_, config_.map_updates, legend_,
+                                                          config_.ros.world_frame);
+    } catch (const dds::DdsError& e) {
+      // E.g. DDS Security permissions written before the live mesh: the map is served without it.
+      spdlog::error("map updates off: {}", e.what());
+      state_.errors.record("map_updates", e.what());
+    }
   }
   services_ = std::make_unique<Services>(
       participant_, config_, *mapper_, *fusion_, state_, [this] { return snapshot(); },
