@@ -22,6 +22,7 @@
 #include "semfuse/dds/sample.hpp"
 #include "semfuse/volume/map_file.hpp"
 #include "semfuse/wire/frame_codec.hpp"
+#include "semfuse/wire/map_update_codecs.hpp"
 #include "semfuse/wire/message_codecs.hpp"
 #include "semfuse/wire/ros_codec.hpp"
 #include "semfuse/wire/service_codecs.hpp"
@@ -329,6 +330,46 @@ void textSeeds() {
 
 }  // namespace
 
+// The live mesh: an update of two blocks (one with colour, one removed), a map_blocks request
+// resuming after a block, a page of one block.
+void mapUpdateSeeds() {
+  MeshBlock block;
+  block.origin = {8, -16, 0};
+  block.revision = 7;
+  block.own_vertices = 3;
+  block.positions = {0, 0, 0, 4096, 0, 0, 0, 4096, 0};
+  block.normals = {0, 0, 127, 0, 0, 127, 0, 0, 127};
+  block.labels = {1, 1, 2};
+  block.scores = {1.0F, 1.0F, 0.5F};
+  block.colors = {10, 20, 30, 40, 50, 60, 70, 80, 90};
+  block.triangles = {0, 1, 2};
+  MeshBlock removed;
+  removed.origin = {0, 0, 8};
+  removed.revision = 7;
+  MapUpdate update;
+  update.header = {42, 7, 0, 30, 0.02};
+  update.previous_revision = 5;
+  update.blocks = {block, removed};
+  write("map_updates_cdr", "update", withSelector(0, cdr(wire::encodeMapUpdate(update).msg())));
+
+  MapBlocksRequest request;
+  request.since_revision = 2;
+  request.resume_after = BlockOrigin{0, 0, 0};
+  request.max_bytes = 200;
+  dds::Sample<wire::MapBlocksCodec::WireRequest> wire_request;
+  wire::MapBlocksCodec::encodeRequest(request, *wire_request);
+  write("map_updates_cdr", "request", withSelector(1, cdr(*wire_request)));
+
+  ServiceReply<MapBlocksPage> reply;
+  reply.value.header = update.header;
+  reply.value.blocks = {block};
+  reply.value.complete = false;
+  reply.value.next_after = block.origin;
+  dds::Sample<wire::MapBlocksCodec::WireReply> wire_reply;
+  wire::MapBlocksCodec::encodeReply(reply, *wire_reply);
+  write("map_updates_cdr", "page", withSelector(2, cdr(*wire_reply)));
+}
+
 int main(int argc, char** argv) {
   CLI::App app{"fuzz_make_seeds: writes the seed corpus of every semfuse fuzz target"};
   std::string out = "fuzz/corpus";
@@ -343,6 +384,7 @@ int main(int argc, char** argv) {
   rosSeeds(frame);
   serviceSeeds();
   mapSeeds();
+  mapUpdateSeeds();
   textSeeds();
   std::printf("seeds written under %s\n", out.c_str());
   return 0;
