@@ -122,6 +122,27 @@ if (args.points.length > 0) {
     probe = await evaluate(`document.getElementById('probe').textContent`);
   }
   for (const row of probe.split('\n')) lines.push(`probe ${row}`);
+  // The raycast from the clicked view: its size, and how many of its pixels have each colour.
+  let raycast = null;
+  for (let i = 0; i < 50 && !raycast; ++i) {
+    await sleep(200);
+    raycast = await evaluate(`(() => {
+      const img = document.getElementById('raycast');
+      if (!img.complete || !img.naturalWidth) return null;
+      const c = document.createElement('canvas');
+      c.width = img.naturalWidth; c.height = img.naturalHeight;
+      const g = c.getContext('2d');
+      g.drawImage(img, 0, 0);
+      const d = g.getImageData(0, 0, c.width, c.height).data;
+      const counts = {};
+      for (let i = 0; i < d.length; i += 4) { const k = d[i] + ',' + d[i + 1] + ',' + d[i + 2]; counts[k] = (counts[k] || 0) + 1; }
+      return { w: c.width, h: c.height, counts };
+    })()`);
+  }
+  if (raycast) {
+    lines.push(`raycast_size ${raycast.w} ${raycast.h}`);
+    for (const [rgb, n] of Object.entries(raycast.counts)) lines.push(`raycast_color ${rgb.replace(/,/g, ' ')} ${n}`);
+  }
 }
 writeFileSync(args.facts, lines.join('\n') + '\n');
 socket.close();

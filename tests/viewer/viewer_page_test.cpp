@@ -3,12 +3,14 @@
 // checks what it shows: the table's and the floor's legend colours where the room's table top
 // and floor must appear on screen, every large label of the room in the picture and in the
 // legend, the frame counter advancing to the last frame, one camera path point per integrated
-// frame, and a click on the table top answered as table (labels_at). The screenshot stays as
+// frame, and a click on the table top answered as table (labels_at) with a raycast image from the
+// view in which the table and the floor appear. The screenshot stays as
 // tests/viewer/viewer_page.png in the build tree.
 #include <sys/socket.h>
 
 #include <netinet/in.h>
 
+#include <array>
 #include <chrono>
 #include <fstream>
 #include <map>
@@ -52,11 +54,13 @@ int waitExit(ChildProcess& child, std::chrono::seconds timeout) {
 }
 
 struct PageFacts {
-  std::map<std::string, double> values;     // blocks, poses, frames
-  std::vector<int> frames_seen;             // counter values in the order the page showed them
-  std::vector<std::string> legend;          // "name count" rows
-  std::map<std::string, cv::Point> points;  // name -> pixel
-  std::vector<std::string> probe;           // the page's answer to a click on the first point
+  std::map<std::string, double> values;              // blocks, poses, frames
+  std::vector<int> frames_seen;                      // counter values in the order the page showed them
+  std::vector<std::string> legend;                   // "name count" rows
+  std::map<std::string, cv::Point> points;           // name -> pixel
+  std::vector<std::string> probe;                    // the page's answer to a click on the first point
+  cv::Size raycast_size;                             // the raycast from the clicked view
+  std::map<std::array<int, 3>, int> raycast_colors;  // its pixels by RGB
 };
 
 PageFacts readFacts(const std::string& path) {
@@ -73,6 +77,13 @@ PageFacts readFacts(const std::string& path) {
       std::string rest;
       std::getline(row >> std::ws, rest);
       facts.legend.push_back(rest);
+    } else if (key == "raycast_size") {
+      row >> facts.raycast_size.width >> facts.raycast_size.height;
+    } else if (key == "raycast_color") {
+      std::array<int, 3> rgb{};
+      int n = 0;
+      row >> rgb[0] >> rgb[1] >> rgb[2] >> n;
+      facts.raycast_colors[rgb] = n;
     } else if (key == "probe") {
       std::string rest;
       std::getline(row >> std::ws, rest);
@@ -177,6 +188,18 @@ TEST(ViewerPage, ShowsTheRoomGrowWithItsLabelsLegendAndCounters) {
   bool table = false;
   for (const std::string& row : facts.probe) table = table || row.rfind("label table (4)", 0) == 0;
   EXPECT_TRUE(table) << "the page's answer to a click on the table: " << ::testing::PrintToString(facts.probe);
+
+  // The same click asks the server for a raycast from the page's view (320 pixels wide, labels in
+  // legend colours): the table and the floor are in it.
+  EXPECT_EQ(facts.raycast_size.width, 320);
+  EXPECT_GT(facts.raycast_size.height, 100);
+  auto raycastPixels = [&](LabelId id) {
+    const auto rgb = legend.colorOf(id);
+    const auto it = facts.raycast_colors.find({rgb[0], rgb[1], rgb[2]});
+    return it == facts.raycast_colors.end() ? 0 : it->second;
+  };
+  EXPECT_GE(raycastPixels(4), 300) << "table pixels in the raycast";
+  EXPECT_GE(raycastPixels(1), 3000) << "floor pixels in the raycast";
 
   const cv::Mat image = cv::imread(png, cv::IMREAD_COLOR);
   ASSERT_FALSE(image.empty()) << png;

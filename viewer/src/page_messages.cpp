@@ -3,6 +3,7 @@
 #include <cstring>
 
 #include <fmt/format.h>
+#include <opencv2/imgcodecs.hpp>
 
 namespace semfuse::viewer {
 namespace {
@@ -68,6 +69,22 @@ std::string removedMessage(const BlockOrigin& origin) {
 std::string clearedMessage() {
   std::string out;
   appendValue(out, static_cast<uint32_t>(BlockMessage::kCleared));
+  return out;
+}
+
+std::string raycastMessage(const RaycastImages& view, const LabelLegend& legend) {
+  cv::Mat bgr(view.labels.size(), CV_8UC3, cv::Scalar(0, 0, 0));
+  for (int v = 0; v < view.labels.rows; ++v)
+    for (int u = 0; u < view.labels.cols; ++u) {
+      if (!view.depth.empty() && !(view.depth.at<float>(v, u) > 0.0F)) continue;
+      const auto rgb = legend.colorOf(view.labels.at<uint16_t>(v, u));
+      bgr.at<cv::Vec3b>(v, u) = {rgb[2], rgb[1], rgb[0]};
+    }
+  std::vector<uint8_t> png;
+  cv::imencode(".png", bgr, png);
+  std::string out;
+  appendValue(out, static_cast<uint32_t>(BlockMessage::kRaycast));
+  append(out, png.data(), png.size());
   return out;
 }
 

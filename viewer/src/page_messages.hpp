@@ -8,6 +8,7 @@
 //             uint16 labels [V] (padded to 4 bytes), uint8 RGB [3V] (zero when the map has no colour)
 //   kRemoved: kind, origin x y z: the block's surface is gone
 //   kCleared: kind: every block is gone (the map was cleared or replaced, or a new server run)
+//   kRaycast: kind, then a PNG: the server's raycast from the page's view, labels in legend colours
 // Text messages are JSON objects with a "type": "legend", "status", "poses", "labels_at".
 #include <cstdint>
 #include <string>
@@ -21,11 +22,13 @@
 
 namespace semfuse::viewer {
 
-enum class BlockMessage : uint32_t { kBlock = 1, kRemoved = 2, kCleared = 3 };
+enum class BlockMessage : uint32_t { kBlock = 1, kRemoved = 2, kCleared = 3, kRaycast = 4 };
 
 std::string blockMessage(const MeshBlock& block, double voxel_size);
 std::string removedMessage(const BlockOrigin& origin);
 std::string clearedMessage();
+// Labels (CV_16UC1) in legend colours, black where the ray met nothing (depth 0), as a PNG.
+std::string raycastMessage(const RaycastImages& view, const LabelLegend& legend);
 
 std::string jsonString(const std::string& text);
 std::string legendJson(const LabelLegend& legend);

@@ -1,5 +1,6 @@
 #include "viewer_hub.hpp"
 
+#include <cmath>
 #include <sstream>
 #include <utility>
 
@@ -62,14 +63,32 @@ void ViewerHub::closed(const WebSocketSession* session) {
     }
 }
 
-// The page sends "labels_at X Y Z" (metres, world frame) when the user clicks the surface.
+// When the user clicks the surface the page sends "labels_at X Y Z" (metres, world frame) and
+// "raycast W H FX FY CX CY RANGE M0 .. M15" (its view: intrinsics, the farthest metres to look
+// (0: the server's default) and camera-to-world, column-major, camera looking along +z with y down).
 void ViewerHub::received(const std::shared_ptr<WebSocketSession>& session, const std::string& text) {
+  constexpr int kMaxRaycastSide = 1024;
   std::istringstream in(text);
   std::string command;
   Click click;
   click.session = session;
-  if (!(in >> command) || command != "labels_at" || !(in >> click.point.x() >> click.point.y() >> click.point.z()) ||
-      !click.point.allFinite()) {
+  bool ok = static_cast<bool>(in >> command);
+  if (ok && command == "labels_at") {
+    ok = static_cast<bool>(in >> click.point.x() >> click.point.y() >> click.point.z()) && click.point.allFinite();
+  } else if (ok && command == "raycast") {
+    click.raycast = true;
+    PinholeIntrinsics& k = click.intrinsics;
+    Eigen::Matrix4d m;
+    ok = static_cast<bool>(in >> k.width >> k.height >> k.fx >> k.fy >> k.cx >> k.cy >> click.max_range) &&
+         std::isfinite(click.max_range) && click.max_range >= 0.0F;
+    for (int i = 0; ok && i < 16; ++i) ok = static_cast<bool>(in >> m(i % 4, i / 4));
+    ok = ok && k.width > 0 && k.height > 0 && k.width <= kMaxRaycastSide && k.height <= kMaxRaycastSide &&
+         m.allFinite() && k.fx > 0 && k.fy > 0;
+    if (ok) click.camera_to_world.matrix() = m;
+  } else {
+    ok = false;
+  }
+  if (!ok) {
     session->send(shared(errorJson("request", "not understood: " + text.substr(0, 80))), false);
     return;
   }
@@ -103,17 +122,7 @@ void ViewerHub::tick(std::chrono::milliseconds wait) {
       clicks_.pop_front();
     }
   }
-  if (click) {
-    std::string reply;
-    auto samples = map_.labelsAt({click->point}, std::chrono::seconds(5));
-    if (!samples || samples.value().empty()) {
-      reply = errorJson("labels_at", samples ? "no answer" : samples.error());
-    } else {
-      std::lock_guard lock(mutex_);
-      reply = labelsAtJson(click->point, samples.value().front(), legend_);
-    }
-    if (auto session = click->session.lock()) session->send(shared(reply), false);
-  }
+  if (click) answer(*click);
 
   if (auto legend = map_.latestLegend()) {
     std::unique_lock lock(mutex_);
@@ -151,6 +160,26 @@ void ViewerHub::tick(std::chrono::milliseconds wait) {
     }
     broadcast(shared(statusNow()), false);
   }
+}
+
+void ViewerHub::answer(const Click& click) {
+  auto session = click.session.lock();
+  if (!session) return;
+  LabelLegend legend;
+  {
+    std::lock_guard lock(mutex_);
+    legend = legend_;
+  }
+  if (click.raycast) {
+    auto view = map_.raycast(click.camera_to_world, click.intrinsics, kDepthLayer | kLabelsLayer,
+                             std::chrono::seconds(10), click.max_range);
+    if (!view) return session->send(shared(errorJson("raycast", view.error())), false);
+    return session->send(shared(raycastMessage(view.value(), legend)), true);
+  }
+  auto samples = map_.labelsAt({click.point}, std::chrono::seconds(5));
+  if (!samples || samples.value().empty())
+    return session->send(shared(errorJson("labels_at", samples ? "no answer" : samples.error())), false);
+  session->send(shared(labelsAtJson(click.point, samples.value().front(), legend)), false);
 }
 
 FollowerCounters ViewerHub::counters() const {

@@ -5,7 +5,8 @@
 // and the cameras' trajectories, taken under the follower's lock so that nothing between that
 // copy and the next change is lost or sent twice. The main thread calls tick(): the server's
 // status and the poses it published go to the pages, and the pages' clicks are answered with
-// labels_at (all MapClient calls stay on that one thread).
+// labels_at at the clicked point and a raycast from the page's view (all MapClient calls stay on
+// that one thread).
 #include <chrono>
 #include <condition_variable>
 #include <deque>
@@ -55,10 +56,16 @@ class ViewerHub {
   std::vector<TrackedPose> trajectory_;  // integrated poses, each camera's path, bounded
   std::optional<ServerStatus> status_;
 
+  // What a page asked: labels_at at a point, or a raycast from a view.
   struct Click {
     std::weak_ptr<WebSocketSession> session;
-    Eigen::Vector3d point;
+    bool raycast = false;
+    Eigen::Vector3d point = Eigen::Vector3d::Zero();
+    Pose camera_to_world = Pose::Identity();
+    PinholeIntrinsics intrinsics;
+    float max_range = 0.0F;
   };
+  void answer(const Click& click);
   std::condition_variable clicked_;
   std::deque<Click> clicks_;
 

@@ -5,7 +5,7 @@ import * as THREE from 'three';
 import { OrbitControls } from './OrbitControls.js';
 
 const params = new URLSearchParams(location.search);
-const KIND_BLOCK = 1, KIND_REMOVED = 2, KIND_CLEARED = 3;
+const KIND_BLOCK = 1, KIND_REMOVED = 2, KIND_CLEARED = 3, KIND_RAYCAST = 4;
 
 // ---- scene ----
 const container = document.getElementById('view');
@@ -158,6 +158,7 @@ function onBinary(buffer) {
   if (kind === KIND_BLOCK) readBlock(buffer);
   else if (kind === KIND_REMOVED) { const o = new Int32Array(buffer, 4, 3); removeBlock(`${o[0]},${o[1]},${o[2]}`); }
   else if (kind === KIND_CLEARED) clearBlocks();
+  else if (kind === KIND_RAYCAST) showRaycast(buffer);
   dirty = true;
 }
 
@@ -280,8 +281,31 @@ renderer.domElement.addEventListener('pointerup', (e) => {
   marker.visible = true;
   dirty = true;
   probe.textContent = `asking at ${p.x.toFixed(3)} ${p.y.toFixed(3)} ${p.z.toFixed(3)}…`;
-  if (socket && socket.readyState === WebSocket.OPEN) socket.send(`labels_at ${p.x} ${p.y} ${p.z}`);
+  if (socket && socket.readyState === WebSocket.OPEN) {
+    socket.send(`labels_at ${p.x} ${p.y} ${p.z}`);
+    socket.send(raycastRequest());
+  }
 });
+
+// The server's raycast from this view: 320 pixels wide, the page's field of view; the camera
+// looks along +z with y down, three.js's along -z with y up.
+function raycastRequest() {
+  const w = 320, h = Math.max(1, Math.round(w / camera.aspect));
+  const f = (h / 2) / Math.tan(THREE.MathUtils.degToRad(camera.fov) / 2);
+  camera.updateMatrixWorld();
+  const m = camera.matrixWorld.clone().multiply(new THREE.Matrix4().makeScale(1, -1, -1));
+  // Far enough to reach the whole map from here.
+  const range = bounds.isEmpty() ? 0
+    : camera.position.distanceTo(bounds.getCenter(new THREE.Vector3())) + bounds.getSize(new THREE.Vector3()).length();
+  return `raycast ${w} ${h} ${f} ${f} ${(w - 1) / 2} ${(h - 1) / 2} ${range} ${m.elements.join(' ')}`;
+}
+
+let raycastUrl = null;
+function showRaycast(buffer) {
+  if (raycastUrl) URL.revokeObjectURL(raycastUrl);
+  raycastUrl = URL.createObjectURL(new Blob([buffer.slice(4)], { type: 'image/png' }));
+  document.getElementById('raycast').src = raycastUrl;
+}
 
 function onLabelsAt(m) {
   probe.textContent = `point ${m.point.map((x) => x.toFixed(3)).join(' ')}\n` +
