@@ -7,6 +7,7 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
 
 #include "page_messages.hpp"
 
@@ -100,6 +101,23 @@ TEST(PageMessages, PosesAreColumnMajorMatricesAsThreeJsTakesThem) {
   // Column-major: the translation is elements 12-14.
   EXPECT_NE(json.find(R"("m":[1,0,0,0,0,1,0,0,0,0,1,0,1.5,-2,0.25,1])"), std::string::npos) << json;
   EXPECT_NE(json.find(R"("camera":"cam0","seq":7,"integrated":true,"state":"given")"), std::string::npos) << json;
+}
+
+TEST(PageMessages, TheRaycastIsAPngOfLegendColoursBlackWhereNothingWasHit) {
+  RaycastImages view;
+  view.labels = (cv::Mat_<uint16_t>(1, 3) << 4, 4, 7);
+  view.depth = (cv::Mat_<float>(1, 3) << 1.5F, 0.0F, 2.0F);
+  LabelLegend legend;
+  legend.labels = {{4, "table", {230, 150, 30}}, {7, "sphere", {145, 60, 200}}};
+  const std::string m = raycastMessage(view, legend);
+  ASSERT_GT(m.size(), 4u);
+  EXPECT_EQ(at<uint32_t>(m, 0), static_cast<uint32_t>(BlockMessage::kRaycast));
+  const std::vector<uint8_t> png(m.begin() + 4, m.end());
+  const cv::Mat bgr = cv::imdecode(png, cv::IMREAD_COLOR);
+  ASSERT_EQ(bgr.size(), cv::Size(3, 1));
+  EXPECT_EQ(bgr.at<cv::Vec3b>(0, 0), cv::Vec3b(30, 150, 230));
+  EXPECT_EQ(bgr.at<cv::Vec3b>(0, 1), cv::Vec3b(0, 0, 0));  // depth 0: no surface
+  EXPECT_EQ(bgr.at<cv::Vec3b>(0, 2), cv::Vec3b(200, 60, 145));
 }
 
 }  // namespace
