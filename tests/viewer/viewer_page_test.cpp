@@ -12,6 +12,8 @@
 
 #include <array>
 #include <chrono>
+#include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -188,6 +190,14 @@ TEST(ViewerPage, ShowsTheRoomGrowWithItsLabelsLegendAndCounters) {
   bool table = false;
   for (const std::string& row : facts.probe) table = table || row.rfind("label table (4)", 0) == 0;
   EXPECT_TRUE(table) << "the page's answer to a click on the table: " << ::testing::PrintToString(facts.probe);
+  // ... and the object there: the table (1.2 x 0.8 m top) as one instance.
+  bool object = false;
+  for (const std::string& row : facts.probe) {
+    double x = 0, y = 0;
+    if (row.rfind("object #", 0) == 0 && std::sscanf(row.c_str(), "object #%*d: %*d voxels, %lf x %lf", &x, &y) == 2)
+      object = std::abs(x - 1.2) < 0.15 && std::abs(y - 0.8) < 0.15;
+  }
+  EXPECT_TRUE(object) << "no table-sized object at the click: " << ::testing::PrintToString(facts.probe);
 
   // The same click asks the server for a raycast from the page's view (320 pixels wide, labels in
   // legend colours): the table and the floor are in it.

@@ -158,13 +158,21 @@ std::string posesJson(const std::vector<TrackedPose>& poses) {
   return R"({"type":"poses","poses":[)" + items + "]}";
 }
 
-std::string labelsAtJson(const Eigen::Vector3d& point, const VoxelSample& sample, const LabelLegend& legend) {
+std::string labelsAtJson(const Eigen::Vector3d& point, const VoxelSample& sample, const LabelLegend& legend,
+                         const ObjectInstance* object) {
   const LabelInfo* info = legend.find(sample.label);
+  std::string instance = "null";
+  if (object) {
+    const Eigen::Vector3d size = object->bbox_max - object->bbox_min;
+    instance = fmt::format(R"({{"id":{},"voxels":{},"size":[{},{},{}],"centroid":[{},{},{}]}})", object->id,
+                           object->voxel_count, number(size.x()), number(size.y()), number(size.z()),
+                           number(object->centroid.x()), number(object->centroid.y()), number(object->centroid.z()));
+  }
   return fmt::format(
-      R"({{"type":"labels_at","point":[{},{},{}],"observed":{},"label":{},"name":{},"confidence":{},"tsdf":{},"weight":{}}})",
+      R"({{"type":"labels_at","point":[{},{},{}],"observed":{},"label":{},"name":{},"confidence":{},"tsdf":{},"weight":{},"object":{}}})",
       number(point.x()), number(point.y()), number(point.z()), sample.observed ? "true" : "false", sample.label,
       jsonString(info ? info->name : "label " + std::to_string(sample.label)), number(sample.confidence),
-      number(sample.tsdf), number(sample.weight));
+      number(sample.tsdf), number(sample.weight), instance);
 }
 
 std::string errorJson(const std::string& what, const std::string& message) {

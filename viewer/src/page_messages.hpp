@@ -49,7 +49,9 @@ std::string statusJson(const std::optional<ServerStatus>& status, const Follower
 // it), tracking state, whether the frame was integrated.
 std::string posesJson(const std::vector<TrackedPose>& poses);
 
-std::string labelsAtJson(const Eigen::Vector3d& point, const VoxelSample& sample, const LabelLegend& legend);
+// `object`: the instance of the sample's label (the objects service) around the point, if any.
+std::string labelsAtJson(const Eigen::Vector3d& point, const VoxelSample& sample, const LabelLegend& legend,
+                         const ObjectInstance* object = nullptr);
 std::string errorJson(const std::string& what, const std::string& message);
 
 }  // namespace semfuse::viewer

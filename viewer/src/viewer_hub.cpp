@@ -179,7 +179,21 @@ void ViewerHub::answer(const Click& click) {
   auto samples = map_.labelsAt({click.point}, std::chrono::seconds(5));
   if (!samples || samples.value().empty())
     return session->send(shared(errorJson("labels_at", samples ? "no answer" : samples.error())), false);
-  session->send(shared(labelsAtJson(click.point, samples.value().front(), legend)), false);
+  const VoxelSample& sample = samples.value().front();
+  // The object there: the smallest instance of that label whose box (grown by a few centimetres:
+  // the point lies on the surface, the box around voxel centres) holds the point.
+  std::optional<ObjectInstance> object;
+  if (sample.observed && sample.label != kUnlabeled) {
+    if (auto objects = map_.objects(sample.label, 0, std::chrono::seconds(10))) {
+      constexpr double kMargin = 0.05;
+      for (const ObjectInstance& o : objects.value()) {
+        const bool inside = ((click.point - o.bbox_min).array() >= -kMargin).all() &&
+                            ((o.bbox_max - click.point).array() >= -kMargin).all();
+        if (inside && (!object || o.voxel_count < object->voxel_count)) object = o;
+      }
+    }
+  }
+  session->send(shared(labelsAtJson(click.point, sample, legend, object ? &*object : nullptr)), false);
 }
 
 FollowerCounters ViewerHub::counters() const {

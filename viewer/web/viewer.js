@@ -310,7 +310,8 @@ function showRaycast(buffer) {
 function onLabelsAt(m) {
   probe.textContent = `point ${m.point.map((x) => x.toFixed(3)).join(' ')}\n` +
     (m.observed ? `label ${m.name} (${m.label})\nconfidence ${m.confidence.toFixed(3)}\ntsdf ${m.tsdf.toFixed(3)}, weight ${m.weight.toFixed(1)}`
-      : 'not observed');
+      : 'not observed') +
+    (m.object ? `\nobject #${m.object.id}: ${m.object.voxels} voxels, ${m.object.size.map((x) => x.toFixed(2)).join(' x ')} m` : '');
 }
 
 // ---- view ----
