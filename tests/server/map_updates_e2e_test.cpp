@@ -69,6 +69,9 @@ TEST(MapUpdatesEndToEnd, AFollowerThatJoinsLateSeesTheMeshOfOneThatWatched) {
     auto encoded = wire::encodeFrame(frame.value());
     ASSERT_TRUE(encoded.ok()) << encoded.error();
     ASSERT_TRUE(h.frames().write(encoded.value().msg()).ok());
+    // One frame in flight: the frames writer keeps the last 2, so a loaded machine could
+    // otherwise overwrite one the server has not read yet.
+    ASSERT_TRUE(h.waitPose("cam0", static_cast<uint64_t>(i), 30s)) << "no pose for frame " << i;
     if (i == kFrames / 2) {
       // Mid-way the watcher already follows a growing mesh.
       EXPECT_TRUE(watcher.waitFor([](const client::MapFollowerState& s) { return !s.blocks.empty(); }, 20s));
@@ -107,6 +110,7 @@ TEST(MapUpdatesEndToEnd, AFollowerThatJoinsLateSeesTheMeshOfOneThatWatched) {
   for (int i = 0; i < 5; ++i) {
     auto encoded = wire::encodeFrame(sequence.frame(i).value());
     ASSERT_TRUE(h.frames().write(encoded.value().msg()).ok());
+    ASSERT_TRUE(h.waitPose("cam0", static_cast<uint64_t>(i), 30s)) << "no pose for frame " << i << " after the reset";
   }
   ASSERT_TRUE(caughtUp(watcher, 5, 30s));
   ASSERT_TRUE(caughtUp(late, 5, 30s));
