@@ -14,6 +14,7 @@
 #include "ros_config.hpp"
 #include "semfuse/core/legend.hpp"
 #include "semfuse/core/result.hpp"
+#include "semfuse/tracking/tracker_params.hpp"
 #include "semfuse/volume/volume_params.hpp"
 
 namespace semfuse::server {
@@ -39,6 +40,9 @@ struct ServerConfig {
 
   // Tracking
   bool refine_given_poses = false;
+  // Weight of the photometric term of cameras without poses (tracking::TrackerParams::color_weight);
+  // 0 for sensors whose colour is not registered to their depth (7-Scenes), where it biases poses.
+  float track_color_weight = tracking::TrackerParams{}.color_weight;
 
   // Queries
   QueryLimits queries;

@@ -41,6 +41,7 @@ MapperOptions mapperOptions(const ServerConfig& config, const LabelLegend& legen
   options.volume = valueOrThrow(serverVolumeParams(config, legend));
   options.legend = legend;
   options.refine_given_poses = config.refine_given_poses;
+  options.tracker.color_weight = config.track_color_weight;
   return options;
 }
 
