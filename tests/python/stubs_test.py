@@ -136,12 +136,13 @@ def test_the_package_exports_the_module_and_its_exceptions() -> None:
 
 def test_mypy_reads_the_stubs_and_checks_the_examples_against_them() -> None:
     """The stubs are valid for type checkers (every name in an annotation exists), and the examples
-    use the API as the stubs describe it."""
+    and the benchmark use the API as the stubs describe it."""
     if importlib.util.find_spec("mypy") is None:
         if os.environ.get("CI"):
             pytest.fail("python3-mypy is missing (deploy/install-deps.sh)")
         pytest.skip("python3-mypy is not installed")
-    examples = sorted(str(p) for p in (SOURCE_DIR / "client/python/examples").glob("*.py"))
+    examples = sorted(str(p) for folder in ("examples", "bench")
+                      for p in (SOURCE_DIR / "client/python" / folder).glob("*.py"))
     assert examples
     done = subprocess.run([sys.executable, "-m", "mypy", "--ignore-missing-imports", "--no-incremental",
                            "--cache-dir", os.devnull, str(STUB), *examples],

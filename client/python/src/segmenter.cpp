@@ -93,6 +93,8 @@ struct CallbackState {
 };
 
 client::SegmentFunction segmentFunction(std::shared_ptr<CallbackState> state) {
+  // Nothing may leave this function but a Result: an exception would end the worker thread, and
+  // with it the process.
   return [state = std::move(state)](const Frame& frame) -> Result<Segmentation> {
     py::gil_scoped_acquire gil;
     state->worker = std::this_thread::get_id();
@@ -104,6 +106,9 @@ client::SegmentFunction segmentFunction(std::shared_ptr<CallbackState> state) {
       ++state->callback_errors;
       state->remember(line);
       return makeError(ErrorCode::kInvalidArgument, "the callback raised " + line);
+    } catch (const std::exception& e) {  // the frame could not be handed over
+      state->remember(e.what());
+      return makeError(ErrorCode::kInternal, std::string("the frame could not be given to Python: ") + e.what());
     }
     try {
       auto segmentation = segmentationOf(result, frame);
@@ -117,6 +122,10 @@ client::SegmentFunction segmentFunction(std::shared_ptr<CallbackState> state) {
       const std::string line = py::str(e.value()).cast<std::string>();
       state->remember(line);
       return makeError(ErrorCode::kInvalidArgument, "the callback's result: " + line);
+    } catch (const std::exception& e) {
+      ++state->invalid_results;
+      state->remember(e.what());
+      return makeError(ErrorCode::kInvalidArgument, std::string("the callback's result: ") + e.what());
     }
   };
 }
