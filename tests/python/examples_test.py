@@ -13,7 +13,7 @@ import pytest
 
 import semfuse
 from conftest import (BOX, CAMERA, DOMAIN, LOOPBACK_PROFILE, SOURCE_DIR, TABLE, Process, Server, build_wall,
-                      program, wall_pose)
+                      program, wait_for, wall_pose)
 
 EXAMPLES = SOURCE_DIR / "client/python/examples"
 DDS = ["--domain-id", str(DOMAIN), "--dds-profile", str(LOOPBACK_PROFILE)]
@@ -52,15 +52,18 @@ def test_dnn_segmenter_labels_real_frames_that_the_server_fuses(tmp_path: Path) 
         segmenter = Process([sys.executable, str(EXAMPLES / "dnn_segmenter.py"), *DDS, "--model",
                              str(shared / "models/ade20k_deeplabv3_mnv2_257_logits.pb"), "--idle-exit", "4"],
                             tmp_path / "segmenter.log")
+        # The camera starts once the example listens (importing OpenCV and loading the network take a while).
+        wait_for(lambda: "Ctrl-C stops" in segmenter.output() or segmenter.popen.poll() is not None, timeout=60,
+                 what="the example to start")
         camera = Process([program("SEMFUSE_CAMERA_EXE"), *DDS, "--source",
-                          f"7scenes:{shared / 'data/7scenes-redkitchen'}", "--last", "9", "--rate", "2",
+                          f"7scenes:{shared / 'data/7scenes-redkitchen'}", "--last", "9", "--rate", "1",
                           "--log-level", "warn"], tmp_path / "camera.log")
         assert camera.wait(120) == 0, camera.output()
         assert segmenter.wait(120) == 0, segmenter.output()
         status = server.wait_until(lambda s: s.pending_segmentations == 0 and s.segmentations_integrated > 0)
         assert "segmentations published" in segmenter.output()
         assert status.frames_integrated == 10
-        assert status.segmentations_integrated >= 5  # ~0.4 s a frame against one every 0.5 s
+        assert status.segmentations_integrated >= 5  # ~0.4 s a frame (more on a loaded machine) against 1 s
         assert status.rejected_count() == 0, status.rejected
         # The kitchen's wall (ADE20K 1) and floor (4) are in the map.
         objects = {o.label for o in server.client.objects(min_voxels=200)}
