@@ -11,7 +11,6 @@ import cv2
 import numpy as np
 import pytest
 
-import semfuse
 from conftest import (BOX, CAMERA, DOMAIN, LOOPBACK_PROFILE, SOURCE_DIR, TABLE, Process, Server, build_wall,
                       program, wait_for, wall_pose)
 
