@@ -20,6 +20,8 @@
 #include "semfuse/core/legend.hpp"
 #include "semfuse/dds/cdr.hpp"
 #include "semfuse/dds/sample.hpp"
+#include "semfuse/render/mesh.hpp"
+#include "semfuse/render/ply_writer.hpp"
 #include "semfuse/volume/map_file.hpp"
 #include "semfuse/wire/frame_codec.hpp"
 #include "semfuse/wire/message_codecs.hpp"
@@ -294,6 +296,25 @@ void mapSeeds() {
   }
 }
 
+void meshPlySeeds() {
+  // The server's mesh of the tiny map, with and without normals, and two hand-made triangles.
+  const auto toBytes = [](const std::string& ply) { return Bytes(ply.begin(), ply.end()); };
+  auto mesh = render::extractMesh(fuzz::makeTinyMap(8));
+  if (!mesh) throw std::runtime_error(mesh.error());
+  render::PlyOptions options;
+  write("mesh_ply", "tiny-map", toBytes(render::plyBytes(mesh.value(), *builtinLegend("voc"), options).value()));
+  options.normals = false;
+  write("mesh_ply", "tiny-map-no-normals",
+        toBytes(render::plyBytes(mesh.value(), *builtinLegend("voc"), options).value()));
+  render::LabeledMesh two;
+  two.vertices = {{0.F, 0.F, 1.F}, {1.F, 0.F, 1.F}, {0.F, 1.F, 1.F}, {1.F, 1.F, 1.F}};
+  two.normals.assign(4, {0.F, 0.F, -1.F});
+  two.labels = {1, 1, 2, 2};
+  two.scores = {1.F, 2.F, 3.F, 4.F};
+  two.triangles = {{0, 1, 2}, {1, 3, 2}};
+  write("mesh_ply", "two-triangles", toBytes(render::plyBytes(two, *builtinLegend("voc")).value()));
+}
+
 void textSeeds() {
   writeText("legend_yaml", "small.yaml",
             "name: kitchen\nlabels:\n  - {id: 0, name: unlabeled, color: [0, 0, 0]}\n"
@@ -343,6 +364,7 @@ int main(int argc, char** argv) {
   rosSeeds(frame);
   serviceSeeds();
   mapSeeds();
+  meshPlySeeds();
   textSeeds();
   std::printf("seeds written under %s\n", out.c_str());
   return 0;
