@@ -3,6 +3,7 @@ see CMakeLists.txt), a DDS domain of the test process's own on the loopback prof
 semfuse-server process per test that needs one."""
 from __future__ import annotations
 
+import fcntl
 import os
 import signal
 import subprocess
@@ -19,8 +20,34 @@ os.environ["CYCLONEDDS_URI"] = f"file://{LOOPBACK_PROFILE}"
 
 import semfuse  # noqa: E402  (after CYCLONEDDS_URI)
 
-# A domain per test process, as tests/server/server_harness.hpp picks one: tests run in parallel.
-DOMAIN = 30 + os.getpid() % 190
+_held_domain_locks: list = []
+
+
+def _reserve_test_domain() -> int:
+    """A DDS domain no other semfuse test on this host holds (tests/support/test_domain.hpp):
+    an flock on /tmp/semfuse-domains/<id>.lock, kept until this process exits."""
+    folder = Path("/tmp/semfuse-domains")
+    folder.mkdir(exist_ok=True)
+    try:
+        folder.chmod(0o1777)  # several users on one host share it; best effort
+    except OSError:
+        pass
+    start = os.getpid() % 230
+    for k in range(230):
+        domain = 1 + (start + k) % 230
+        handle = open(folder / f"{domain}.lock", "a")  # noqa: SIM115 (held for the process's life)
+        try:
+            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            handle.close()
+            continue
+        _held_domain_locks.append(handle)
+        return domain
+    raise RuntimeError(f"no free DDS test domain under {folder}")
+
+
+# A domain per test process: tests run in parallel.
+DOMAIN = _reserve_test_domain()
 
 
 def program(variable: str) -> str:
