@@ -1,8 +1,10 @@
 #pragma once
 // The synthetic room fused at 5 cm from exact depth and ground-truth labels along two orbits (a
-// high one that looks down on the furniture and a low one that sees under the table), with its
+// high one that looks down on the furniture and a low one that sees under the table) and two
+// rings of views out towards the walls, and views down from the corners, with its
 // observed free space, and the distance field kept up to date frame by frame as a server does.
 // Built once per test program (it takes a few seconds).
+#include <cmath>
 #include <memory>
 #include <vector>
 
@@ -42,6 +44,30 @@ inline std::vector<Pose> roomPoses() {
   low.phase_rad = 0.3;
   for (int i = 0; i < high.frame_count; ++i) poses.push_back(high.pose(i));
   for (int i = 0; i < low.frame_count; ++i) poses.push_back(low.pose(i));
+  // From above the table looking out at the walls, the boxes and the cabinet, which the orbits
+  // see only from across the room.
+  constexpr int kOutward = 24;
+  for (int i = 0; i < kOutward; ++i) {
+    const double a = 2.0 * M_PI * i / kOutward;
+    const Eigen::Vector3d eye(0.2 + 0.3 * std::cos(a), 0.1 + 0.3 * std::sin(a), 1.3);
+    const Eigen::Vector3d target(0.2 + 2.0 * std::cos(a), 0.1 + 1.6 * std::sin(a), 0.3);
+    poses.push_back(synthetic::lookAt(eye, target));
+  }
+  // From 1.5 m out, high, looking down past the furniture into the strip along the walls.
+  for (int i = 0; i < kOutward; ++i) {
+    const double a = 2.0 * M_PI * (i + 0.5) / kOutward;
+    const Eigen::Vector3d eye(1.5 * std::cos(a), 1.2 * std::sin(a), 1.7);
+    const Eigen::Vector3d target(2.3 * std::cos(a), 1.85 * std::sin(a), 0.0);
+    poses.push_back(synthetic::lookAt(eye, target));
+  }
+  // From high in each corner, down behind the boxes and the big sphere that stand near them.
+  for (double sx : {-1.0, 1.0})
+    for (double sy : {-1.0, 1.0})
+      for (int k = 0; k < 4; ++k) {
+        const Eigen::Vector3d eye(sx * 2.25, sy * 1.75, 1.9);
+        const Eigen::Vector3d target(sx * (1.2 + 0.25 * (k % 2)), sy * (0.9 + 0.25 * (k / 2)), 0.1);
+        poses.push_back(synthetic::lookAt(eye, target));
+      }
   return poses;
 }
 
