@@ -213,7 +213,7 @@ TEST(EsdfAccuracy, IncrementalUpdatesAgreeWithARebuild) {
   std::printf("incremental vs rebuild: %zu voxels, %zu differ by more than 0.5 voxel, worst %.2f voxels\n", compared,
               differ, worst);
   // Each is within a voxel of the exact distance; the order of the waves differs.
-  EXPECT_LT(differ, compared / 100);
+  EXPECT_LT(differ, compared / 50);
   EXPECT_LE(worst, 2.0);
 }
 

@@ -27,7 +27,7 @@ const std::array<openvdb::Coord, 26> kAllNeighbours = [] {
 
 // A site whose distance to the surface changed by less than this (1/255 voxel units, about 0.1
 // voxel) keeps the voxels that point at it as they are: their copies of its distance are then off
-// by at most that much. A larger change re-propagates.
+// by at most that much until a wave passes them. A larger change re-propagates.
 constexpr int kSiteDistanceTolerance = 26;
 
 // OpenVDB's leaf offset n = x * 64 + y * 8 + z (local coordinates).
@@ -135,6 +135,8 @@ class Classifier {
 // looked into must not make the wave go round it. Queries never read those voxels.
 class Waves {
  public:
+  static constexpr float kBucketsPerVoxel = 4.0f;
+
   using Leaf = EsdfGrid::TreeType::LeafNodeType;
 
   Waves(EsdfGrid& grid, float max_voxels, UpdateStats& stats)
@@ -155,7 +157,7 @@ class Waves {
   // Keeps the voxel's known / unknown state.
   void write(const openvdb::Coord& ijk, const EsdfVoxel& voxel) { values_.setValueOnly(ijk, packEsdf(voxel)); }
 
-  void addLower(const openvdb::Coord& ijk) { lower_.push_back(ijk); }
+  void addLower(const openvdb::Coord& ijk) { seeds_.push_back(ijk); }
   void addRaise(const openvdb::Coord& site) { raise_.push_back({site, site}); }
   void addOrphan(const openvdb::Coord& ijk) { orphans_.push_back(ijk); }
 
@@ -193,65 +195,88 @@ class Waves {
     orphans_.clear();
   }
 
-  // Breadth-first from the queued voxels: a neighbour on the same side takes the queued voxel's
-  // site when that site is nearer than its own (or it has none) and within the maximum distance.
+  // From the queued voxels outwards, nearest first: a neighbour on the same side takes the
+  // voxel's site when that site is nearer than its own (or it has none) and within the maximum
+  // distance. The queue is bucketed by a quarter voxel of distance (voxblox buckets too), so most
+  // voxels settle on their first visit instead of being improved again by a later, nearer wave,
+  // and sites reach voxels in nearly the order an exact Dijkstra would (whole-voxel buckets left
+  // some a fifth of a voxel farther from their best site).
   void lower() {
-    for (std::size_t head = 0; head < lower_.size(); ++head) {
-      const openvdb::Coord u = lower_[head];
-      EsdfVoxel from;
-      bool from_known;
-      if (!read(u, from, from_known) || !from.has_site) continue;
-      const bool inside = from_known && from.inside;
-      const openvdb::Coord site = from.site(u);
-      if (!from.is_site) {
-        // The site may have gone since this voxel took it (a chain the raise wave could not follow).
-        EsdfVoxel s;
-        bool site_known;
-        if (!read(site, s, site_known) || !site_known || !s.is_site || s.inside != inside) {
-          from.has_site = false;
-          from.dx = from.dy = from.dz = 0;
-          write(u, from);
-          pushNeighboursWithSites(u, inside);
-          continue;
-        }
-        if (s.site_distance != from.site_distance) {
-          from.site_distance = s.site_distance;
-          write(u, from);
-        }
-      }
-      const uint8_t site_distance = from.site_distance;
-      for (const openvdb::Coord& step : kAllNeighbours) {
-        const openvdb::Coord w_ijk = u + step;
-        EsdfVoxel w;
-        bool known;
-        if (!read(w_ijk, w, known) || w.is_site || (known ? w.inside != inside : inside)) continue;
-        const openvdb::Coord offset = site - w_ijk;
-        const float squared =
-            float(offset.x()) * offset.x() + float(offset.y()) * offset.y() + float(offset.z()) * offset.z();
-        const float candidate = std::sqrt(squared) + site_distance * (1.0f / 255.0f);
-        if (candidate > max_voxels_) continue;
-        if (w.has_site && candidate >= w.magnitude() - 1e-3f) continue;
-        w.dx = static_cast<int16_t>(offset.x());
-        w.dy = static_cast<int16_t>(offset.y());
-        w.dz = static_cast<int16_t>(offset.z());
-        w.site_distance = site_distance;
-        w.has_site = true;
-        w.inside = inside;
-        write(w_ijk, w);
-        lower_.push_back(w_ijk);
-        ++stats_.relaxed;
-      }
+    for (const openvdb::Coord& ijk : seeds_) {
+      EsdfVoxel v;
+      bool known;
+      if (read(ijk, v, known) && v.has_site) push(ijk, v.magnitude());
     }
-    lower_.clear();
+    seeds_.clear();
+    for (current_ = 0; current_ < buckets_.size(); ++current_) {
+      // Relaxing a voxel queues its neighbours in this bucket or later ones, never earlier.
+      for (std::size_t head = 0; head < buckets_[current_].size(); ++head) relax(buckets_[current_][head]);
+      buckets_[current_].clear();
+    }
+    current_ = 0;
   }
 
  private:
+  void push(const openvdb::Coord& ijk, float distance) {
+    // Never behind the bucket in hand (a re-seeded neighbour can be nearer than it): it would be
+    // left unvisited.
+    const auto bucket = std::max(current_, static_cast<std::size_t>(std::max(0.0f, distance) * kBucketsPerVoxel));
+    if (bucket >= buckets_.size()) buckets_.resize(bucket + 1);
+    buckets_[bucket].push_back(ijk);
+  }
+
+  void relax(const openvdb::Coord& u) {
+    EsdfVoxel from;
+    bool from_known;
+    if (!read(u, from, from_known) || !from.has_site) return;
+    const bool inside = from_known && from.inside;
+    const openvdb::Coord site = from.site(u);
+    if (!from.is_site) {
+      // The site may have gone since this voxel took it (a chain the raise wave could not follow).
+      EsdfVoxel s;
+      bool site_known;
+      if (!read(site, s, site_known) || !site_known || !s.is_site || s.inside != inside) {
+        from.has_site = false;
+        from.dx = from.dy = from.dz = 0;
+        write(u, from);
+        pushNeighboursWithSites(u, inside);
+        return;
+      }
+      if (s.site_distance != from.site_distance) {
+        from.site_distance = s.site_distance;
+        write(u, from);
+      }
+    }
+    const uint8_t site_distance = from.site_distance;
+    for (const openvdb::Coord& step : kAllNeighbours) {
+      const openvdb::Coord w_ijk = u + step;
+      EsdfVoxel w;
+      bool known;
+      if (!read(w_ijk, w, known) || w.is_site || (known ? w.inside != inside : inside)) continue;
+      const openvdb::Coord offset = site - w_ijk;
+      const float squared =
+          float(offset.x()) * offset.x() + float(offset.y()) * offset.y() + float(offset.z()) * offset.z();
+      const float candidate = std::sqrt(squared) + site_distance * (1.0f / 255.0f);
+      if (candidate > max_voxels_) continue;
+      if (w.has_site && candidate >= w.magnitude() - 1e-3f) continue;
+      w.dx = static_cast<int16_t>(offset.x());
+      w.dy = static_cast<int16_t>(offset.y());
+      w.dz = static_cast<int16_t>(offset.z());
+      w.site_distance = site_distance;
+      w.has_site = true;
+      w.inside = inside;
+      write(w_ijk, w);
+      push(w_ijk, candidate);
+      ++stats_.relaxed;
+    }
+  }
+
   void pushNeighboursWithSites(const openvdb::Coord& ijk, bool inside) {
     for (const openvdb::Coord& step : kNeighbours) {
       EsdfVoxel n;
       bool known;
       if (read(ijk + step, n, known) && n.has_site && (known ? n.inside == inside : !inside))
-        lower_.push_back(ijk + step);
+        push(ijk + step, n.magnitude());
     }
   }
 
@@ -261,7 +286,9 @@ class Waves {
   openvdb::tree::ValueAccessor<EsdfGrid::TreeType> values_;
   float max_voxels_;
   UpdateStats& stats_;
-  std::vector<openvdb::Coord> lower_;
+  std::vector<openvdb::Coord> seeds_;
+  std::vector<std::vector<openvdb::Coord>> buckets_;
+  std::size_t current_ = 0;  // the bucket lower() is working through
   std::vector<RaiseItem> raise_;
   std::vector<openvdb::Coord> orphans_;
 };
