@@ -85,7 +85,7 @@ bool DistanceField::waitUntilCurrent(std::chrono::milliseconds timeout) const {
 std::shared_ptr<const esdf::SurfaceIndex> DistanceField::surfaceIndex(std::vector<LabelId> labels) const {
   std::sort(labels.begin(), labels.end());
   labels.erase(std::unique(labels.begin(), labels.end()), labels.end());
-  const uint64_t surfaces_revision = read([](const esdf::EsdfMap& f) { return f.surfaces().revision(); });
+  const uint64_t surfaces_revision = readField([](const esdf::EsdfMap& f) { return f.surfaces().revision(); });
   {
     std::lock_guard lock(cache_mutex_);
     auto it = cache_.find(labels);
@@ -93,7 +93,7 @@ std::shared_ptr<const esdf::SurfaceIndex> DistanceField::surfaceIndex(std::vecto
   }
   // Gather under the field's lock, build the tree without it.
   uint64_t gathered_at = 0;
-  std::vector<esdf::SurfacePoint> points = read([&](const esdf::EsdfMap& f) {
+  std::vector<esdf::SurfacePoint> points = readField([&](const esdf::EsdfMap& f) {
     gathered_at = f.surfaces().revision();
     return f.surfaces().gather(labels);
   });
@@ -109,7 +109,7 @@ DistanceField::Stats DistanceField::stats() const {
   s.updates = updates_.load();
   s.last_update_ms = last_update_ms_.load();
   s.revision = revision_.load();
-  read([&](const esdf::EsdfMap& f) {
+  readField([&](const esdf::EsdfMap& f) {
     s.known_voxels = f.knownVoxels();
     s.memory_bytes = f.memoryBytes();
     return 0;

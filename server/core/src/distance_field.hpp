@@ -10,6 +10,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -17,13 +18,14 @@
 #include <thread>
 #include <vector>
 
+#include "distance_source.hpp"
 #include "mapper.hpp"
 #include "semfuse/esdf/esdf_map.hpp"
 #include "semfuse/esdf/semantic_distance.hpp"
 
 namespace semfuse::server {
 
-class DistanceField {
+class DistanceField final : public DistanceSource {
  public:
   DistanceField(const Mapper& mapper, double voxel_size, esdf::EsdfParams params);
   ~DistanceField();
@@ -36,14 +38,20 @@ class DistanceField {
 
   // Runs fn(field) under the field's shared lock.
   template <class Fn>
-  auto read(Fn&& fn) const {
+  auto readField(Fn&& fn) const {
     std::shared_lock lock(mutex_);
     return fn(field_);
+  }
+  void read(const std::function<void(const esdf::EsdfMap&)>& fn) const override {
+    readField([&](const esdf::EsdfMap& field) {
+      fn(field);
+      return 0;
+    });
   }
 
   // The surface points of `labels` in a KD-tree, built on first use and kept until the field's
   // labeled surfaces change (a few recent label sets are kept).
-  std::shared_ptr<const esdf::SurfaceIndex> surfaceIndex(std::vector<LabelId> labels) const;
+  std::shared_ptr<const esdf::SurfaceIndex> surfaceIndex(std::vector<LabelId> labels) const override;
 
   // Until the field reflects the map as of now (for tests and the bench); false on timeout.
   bool waitUntilCurrent(std::chrono::milliseconds timeout) const;

@@ -64,8 +64,8 @@ ServiceReply<std::vector<DistanceSample>> handleDistance(const DistanceRequest& 
   ReplyCode code;
   if (Status ok = checkPoints(request.points, context.limits, code); !ok) return refuse<Reply>(code, ok.error());
   ServiceReply<Reply> reply;
-  const auto samples =
-      context.field->read([&](const esdf::EsdfMap& field) { return esdf::distancesAt(field, request.points); });
+  std::vector<esdf::DistanceSample> samples;
+  context.field->read([&](const esdf::EsdfMap& field) { samples = esdf::distancesAt(field, request.points); });
   reply.value.reserve(samples.size());
   for (const auto& s : samples) reply.value.push_back(toSample(s));
   return reply;
@@ -98,7 +98,7 @@ ServiceReply<OccupancyGrid> handleOccupancySlice(const OccupancySliceRequest& re
       reply = refuse<Reply>(ReplyCode::kTooLarge, std::to_string(cells) + " cells exceed the limit of " +
                                                       std::to_string(context.max_slice_cells) +
                                                       " (--esdf.max-slice-cells)");
-      return false;
+      return;
     }
     const esdf::OccupancyGrid grid = esdf::occupancySlice(field, slice);
     OccupancyGrid& out = reply.value;
@@ -109,7 +109,6 @@ ServiceReply<OccupancyGrid> handleOccupancySlice(const OccupancySliceRequest& re
     out.origin = grid.origin;
     out.z = 0.5 * (request.z_min + request.z_max);
     out.cells = grid.cells;
-    return true;
   });
   return reply;
 }
@@ -176,14 +175,15 @@ ServiceReply<std::vector<SegmentResult>> handleSegmentCheck(const SegmentCheckRe
     segments.push_back({s.start, s.end});
   }
   ServiceReply<Reply> reply;
-  const auto results = context.field->read(
-      [&](const esdf::EsdfMap& field) { return esdf::checkSegments(field, segments, request.radius); });
+  std::vector<esdf::SegmentResult> results;
+  context.field->read(
+      [&](const esdf::EsdfMap& field) { results = esdf::checkSegments(field, segments, request.radius); });
   for (const auto& r : results)
     reply.value.push_back({static_cast<SegmentStatus>(r.status), r.fraction, r.blocked_at, r.min_clearance});
   return reply;
 }
 
-OccupancyGrid publishedOccupancyGrid(const DistanceField& field, const EsdfConfig& config) {
+OccupancyGrid publishedOccupancyGrid(const DistanceSource& field, const EsdfConfig& config) {
   esdf::OccupancyRequest slice;
   slice.z_min = config.occupancy_min_z;
   slice.z_max = config.occupancy_max_z;
@@ -198,7 +198,6 @@ OccupancyGrid publishedOccupancyGrid(const DistanceField& field, const EsdfConfi
     out.height = static_cast<uint32_t>(grid.height);
     out.origin = grid.origin;
     out.cells = grid.cells;
-    return 0;
   });
   return out;
 }

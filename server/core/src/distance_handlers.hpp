@@ -7,7 +7,7 @@
 // area or beyond --esdf.max-slice-cells) get INVALID_ARGUMENT or TOO_LARGE and a message.
 #include <vector>
 
-#include "distance_field.hpp"
+#include "distance_source.hpp"
 #include "esdf_config.hpp"
 #include "query_limits.hpp"
 #include "semfuse/core/distance_service_types.hpp"
@@ -18,7 +18,7 @@ namespace semfuse::server {
 
 // What the handlers need besides the request.
 struct DistanceQueryContext {
-  const DistanceField* field = nullptr;  // null: no distance field (--esdf off)
+  const DistanceSource* field = nullptr;  // null: no distance field (--esdf off)
   const LabelLegend* legend = nullptr;
   QueryLimits limits;
   uint64_t max_slice_cells = uint64_t{4096} * 4096;
@@ -37,6 +37,6 @@ ServiceReply<std::vector<SegmentResult>> handleSegmentCheck(const SegmentCheckRe
                                                             const DistanceQueryContext& context);
 
 // The occupancy grid the server publishes: the band of `config` over the whole observed extent.
-OccupancyGrid publishedOccupancyGrid(const DistanceField& field, const EsdfConfig& config);
+OccupancyGrid publishedOccupancyGrid(const DistanceSource& field, const EsdfConfig& config);
 
 }  // namespace semfuse::server

@@ -12,6 +12,7 @@
 #include <memory>
 #include <string>
 
+#include "distance_field.hpp"
 #include "distance_handlers.hpp"
 #include "fusion_loop.hpp"
 #include "held_meshes.hpp"

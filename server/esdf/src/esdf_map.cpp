@@ -140,7 +140,7 @@ class Waves {
   using Leaf = EsdfGrid::TreeType::LeafNodeType;
 
   Waves(EsdfGrid& grid, float max_voxels, UpdateStats& stats)
-      : values_(grid.tree()), max_voxels_(max_voxels), stats_(stats) {}
+      : values_(grid.tree()), sites_(grid.tree()), max_voxels_(max_voxels), stats_(stats) {}
 
   Leaf* probeLeaf(const openvdb::Coord& origin) { return values_.probeLeaf(origin); }
   Leaf* touchLeaf(const openvdb::Coord& origin) { return values_.touchLeaf(origin); }
@@ -233,9 +233,12 @@ class Waves {
     const openvdb::Coord site = from.site(u);
     if (!from.is_site) {
       // The site may have gone since this voxel took it (a chain the raise wave could not follow).
-      EsdfVoxel s;
-      bool site_known;
-      if (!read(site, s, site_known) || !site_known || !s.is_site || s.inside != inside) {
+      // Read through an accessor of its own: the site is often leaves away, and reading it through
+      // the neighbourhood's accessor would evict the leaf its 26 neighbours are read from.
+      PackedEsdf packed;
+      const bool site_known = sites_.probeValue(site, packed);
+      const EsdfVoxel s = unpackEsdf(packed);
+      if (!site_known || !s.is_site || s.inside != inside) {
         from.has_site = false;
         from.dx = from.dy = from.dz = 0;
         write(u, from);
@@ -284,6 +287,7 @@ class Waves {
     openvdb::Coord from, site;
   };
   openvdb::tree::ValueAccessor<EsdfGrid::TreeType> values_;
+  openvdb::tree::ValueAccessor<const EsdfGrid::TreeType> sites_;
   float max_voxels_;
   UpdateStats& stats_;
   std::vector<openvdb::Coord> seeds_;
