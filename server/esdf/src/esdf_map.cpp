@@ -186,11 +186,24 @@ class Waves {
   // Every orphan (a voxel without a site) is offered the sites of its neighbours on its side:
   // those neighbours join the lower wave.
   void seedOrphans() {
+    // Neighbouring orphans share neighbours: each voxel is queued once however many orphans
+    // border it (a new leaf's 512 orphans would queue their neighbours up to six times).
+    openvdb::MaskTree queued;
+    openvdb::tree::ValueAccessor<openvdb::MaskTree> marks(queued);
     for (const openvdb::Coord& ijk : orphans_) {
       EsdfVoxel o;
       bool known;
       if (!read(ijk, o, known) || o.has_site) continue;
-      pushNeighboursWithSites(ijk, known && o.inside);
+      const bool inside = known && o.inside;
+      for (const openvdb::Coord& step : kNeighbours) {
+        const openvdb::Coord n_ijk = ijk + step;
+        EsdfVoxel n;
+        bool n_known;
+        if (!read(n_ijk, n, n_known) || !n.has_site || (n_known ? n.inside != inside : inside)) continue;
+        if (marks.isValueOn(n_ijk)) continue;
+        marks.setValueOn(n_ijk);
+        push(n_ijk, n.magnitude());
+      }
     }
     orphans_.clear();
   }
@@ -226,6 +239,7 @@ class Waves {
   }
 
   void relax(const openvdb::Coord& u) {
+    ++stats_.popped;
     EsdfVoxel from;
     bool from_known;
     if (!read(u, from, from_known) || !from.has_site) return;

@@ -31,6 +31,7 @@ struct UpdateStats {
   std::size_t sites_removed = 0;  // sites that vanished, flipped side or moved away
   std::size_t cleared = 0;        // voxels cleared by raise waves
   std::size_t relaxed = 0;        // voxels whose nearest site the lower wave changed
+  std::size_t popped = 0;         // voxels the lower wave took from its queue
   bool rebuilt = false;           // the map was cleared or replaced: everything recomputed
 };
 
