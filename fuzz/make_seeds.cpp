@@ -23,6 +23,7 @@
 #include "semfuse/render/mesh.hpp"
 #include "semfuse/render/ply_writer.hpp"
 #include "semfuse/volume/map_file.hpp"
+#include "semfuse/wire/distance_codecs.hpp"
 #include "semfuse/wire/frame_codec.hpp"
 #include "semfuse/wire/message_codecs.hpp"
 #include "semfuse/wire/ros_codec.hpp"
@@ -284,6 +285,20 @@ void serviceSeeds() {
   write("service_requests", "mesh", withSelector(4, requestCdr<wire::MeshCodec>({})));
   const Box box{{-0.5, -0.5, 0.5}, {0.5, 0.5, 1.2}};
   write("service_requests", "mesh-box", withSelector(4, requestCdr<wire::MeshCodec>({box, 0, 0})));
+  write("service_requests", "distance",
+        withSelector(5, requestCdr<wire::DistanceCodec>({{{0, 0, 0.9}, {-0.3, 0.1, 1.0}, {0, 0, 3.0}}})));
+  OccupancySliceRequest slice;
+  slice.z_min = -0.5;
+  slice.z_max = 0.5;
+  slice.inflation_radius = 0.1;
+  write("service_requests", "occupancy-slice", withSelector(6, requestCdr<wire::OccupancySliceCodec>(slice)));
+  write("service_requests", "semantic-distance",
+        withSelector(7, requestCdr<wire::SemanticDistanceCodec>({{5, 9}, {{0, 0, 0.5}, {0.2, 0, 0.8}}})));
+  write("service_requests", "semantic-slice",
+        withSelector(8, requestCdr<wire::SemanticSliceCodec>({{5}, 0.0, {-0.5, -0.5}, {0.5, 0.5}, 0.1})));
+  write("service_requests", "segment-check",
+        withSelector(9, requestCdr<wire::SegmentCheckCodec>(
+                            {{{{0, 0, 0.5}, {0, 0, 2.0}}, {{-0.4, 0, 0.8}, {0.4, 0, 0.8}}}, 0.05})));
 }
 
 void mapSeeds() {

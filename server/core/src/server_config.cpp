@@ -124,6 +124,7 @@ void addServerOptions(CLI::App& app, ServerConfig& c) {
       ->capture_default_str();
 
   addRosOptions(app, c.ros);
+  addEsdfOptions(app, c.esdf);
 }
 
 Result<LabelLegend> serverLegend(const ServerConfig& config) {

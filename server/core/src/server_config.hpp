@@ -9,6 +9,7 @@
 
 #include <CLI/App.hpp>
 
+#include "esdf_config.hpp"
 #include "fusion_limits.hpp"
 #include "query_limits.hpp"
 #include "ros_config.hpp"
@@ -53,6 +54,9 @@ struct ServerConfig {
 
   // ROS 2 standard topics as input, /tf as output (--ros-ingest, YAML section `ros:`)
   RosIngestConfig ros;
+
+  // The distance field and the occupancy grid topic (--esdf, sections `esdf:` and `occupancy:`)
+  EsdfConfig esdf;
 };
 
 // Declares every option on `app` (documented for --help), bound to `config`.

@@ -24,6 +24,7 @@ using PackedVoxel = openvdb::Int64;
 using GeometryGrid = openvdb::Int64Grid;  // PackedVoxel per voxel; active = observed
 using ColorGrid = openvdb::Int32Grid;     // PackedColor per voxel, same topology as geometry
 using PackedColor = openvdb::Int32;
+using FreeSpaceGrid = openvdb::MaskGrid;  // on = observed free space (free_space.hpp)
 
 inline constexpr PackedVoxel kUnobservedVoxel = 0;
 
