@@ -18,7 +18,7 @@ inline int reserveTestDomain() {
   static const int domain = [] {
     const std::string folder = "/tmp/semfuse-domains";
     ::mkdir(folder.c_str(), 0777);
-    ::chmod(folder.c_str(), 01777);  // several users on one host share it; best effort
+    ::chmod(folder.c_str(), 01777);          // several users on one host share it; best effort
     constexpr int kFirst = 1, kCount = 230;  // Cyclone takes ids 0..232; 0 is everyone's default
     const int start = static_cast<int>(::getpid() % kCount);
     for (int k = 0; k < kCount; ++k) {
