@@ -2,6 +2,7 @@
 
 #include <cassert>
 #include <cmath>
+#include <utility>
 
 namespace semfuse::volume {
 namespace {
@@ -38,6 +39,8 @@ LabeledVolume LabeledVolume::deepCopy() const {
   copy.geometry_ = geometry_->deepCopy();
   if (color_) copy.color_ = color_->deepCopy();
   if (label_sidecar_) copy.label_sidecar_ = label_sidecar_->deepCopy();
+  if (instances_) copy.instances_ = instances_->deepCopy();
+  copy.next_instance_id_ = next_instance_id_;
   copy.frames_integrated_ = frames_integrated_;
   return copy;
 }
@@ -68,7 +71,26 @@ void LabeledVolume::clear() {
   geometry_->clear();
   if (color_) color_->clear();
   if (label_sidecar_) label_sidecar_->clear();
+  instances_.reset();
+  next_instance_id_ = 1;
   frames_integrated_ = 0;
+}
+
+InstanceGrid& LabeledVolume::mutableInstanceGrid() {
+  if (!instances_) {
+    instances_ = InstanceGrid::create(0);
+    instances_->setTransform(voxelTransform(params_.voxel_size));
+    instances_->setName("instance");
+  }
+  return *instances_;
+}
+
+void LabeledVolume::setInstanceGrid(InstanceGrid::Ptr grid) {
+  instances_ = std::move(grid);
+  if (instances_) {
+    instances_->setTransform(voxelTransform(params_.voxel_size));
+    instances_->setName("instance");
+  }
 }
 
 }  // namespace semfuse::volume

@@ -14,6 +14,7 @@
 #include <Eigen/Core>
 
 #include "semfuse/core/result.hpp"
+#include "semfuse/volume/instance_evidence.hpp"
 #include "semfuse/volume/volume_params.hpp"
 #include "semfuse/volume/voxel.hpp"
 
@@ -60,7 +61,10 @@ class LabeledVolume {
   std::size_t geometryMemoryBytes() const { return geometry_->memUsage(); }
   std::size_t colorMemoryBytes() const { return color_ ? color_->memUsage() : 0; }
   std::size_t labelSidecarMemoryBytes() const { return label_sidecar_ ? label_sidecar_->memUsage() : 0; }
-  std::size_t memoryBytes() const { return geometryMemoryBytes() + colorMemoryBytes() + labelSidecarMemoryBytes(); }
+  std::size_t instanceMemoryBytes() const { return instances_ ? instances_->memUsage() : 0; }
+  std::size_t memoryBytes() const {
+    return geometryMemoryBytes() + colorMemoryBytes() + labelSidecarMemoryBytes() + instanceMemoryBytes();
+  }
 
   void clear();
   uint64_t framesIntegrated() const { return frames_integrated_; }
@@ -79,11 +83,24 @@ class LabeledVolume {
   ColorGrid* mutableColorGrid() { return color_.get(); }
   LabelSidecarGrid* mutableLabelSidecarGrid() { return label_sidecar_.get(); }
 
+  // Panoptic instance evidence (instance_evidence.hpp): null until the first instance map is
+  // fused, so a map fused from class-only segmenters carries none. Its leaves are a subset of the
+  // geometry's. The next instance id is the one integrateInstances() gives a segment it cannot
+  // match to one the map knows.
+  const InstanceGrid* instanceGrid() const { return instances_.get(); }
+  InstanceGrid::ConstPtr instanceGridPtr() const { return instances_; }
+  InstanceGrid& mutableInstanceGrid();  // creates it when missing
+  void setInstanceGrid(InstanceGrid::Ptr grid);
+  uint32_t nextInstanceId() const { return next_instance_id_; }
+  void setNextInstanceId(uint32_t id) { next_instance_id_ = id; }
+
  private:
   VolumeParams params_;
   GeometryGrid::Ptr geometry_;
   ColorGrid::Ptr color_;
   LabelSidecarGrid::Ptr label_sidecar_;
+  InstanceGrid::Ptr instances_;
+  uint32_t next_instance_id_ = 1;
   uint64_t frames_integrated_ = 0;
 };
 
