@@ -95,7 +95,8 @@ Result<ObjectRunResult> runObjectSource(const EvalSequence& sequence, const Obje
 
     const std::vector<uint32_t> truth =
         trueInstances(query.surface, scene, kTruthDistanceVoxels * options.volume.voxel_size);
-    ObjectScore score = scoreObjects(query.surface, query.grouping, truth, true_labels, options.objects.min_object_area_m2);
+    ObjectScore score =
+        scoreObjects(query.surface, query.grouping, truth, true_labels, options.objects.min_object_area_m2);
     std::map<uint32_t, uint32_t> ids;
     for (std::size_t g = 0; g < query.grouping.groups.size(); ++g)
       if (score.instance_of_group[g] != 0) ids[score.instance_of_group[g]] = query.ids.ids[g];
@@ -187,9 +188,9 @@ Result<std::vector<ObjectRunResult>> runObjectExperiment(const std::vector<const
     md << "| **all** | " << all.true_objects << " | " << all.found_objects << " | " << all.matched << " | **"
        << percent(all.precision()) << "** | **" << percent(all.recall()) << "** |\n\n"
        << "Ids kept between consecutive queries: " << kept << " of " << compared << " ("
-       << percent(compared ? double(kept) / double(compared) : 1.0) << ") over " << queries << " queries of "
-       << runs << " runs; " << events << " events; " << std::fixed << std::setprecision(1)
-       << (runs ? ms / double(runs) : 0.0) << " ms per query (mean, this machine).\n\n";
+       << percent(compared ? double(kept) / double(compared) : 1.0) << ") over " << queries << " queries of " << runs
+       << " runs; " << events << " events; " << std::fixed << std::setprecision(1) << (runs ? ms / double(runs) : 0.0)
+       << " ms per query (mean, this machine).\n\n";
   }
   if (!md) return makeError("cannot write " + (options.out / "objects.md").string());
   return results;

@@ -36,8 +36,8 @@ struct ClassCounts {
 struct ObjectScore {
   std::map<LabelId, ClassCounts> classes;
   ClassCounts total;
-  std::vector<uint32_t> instance_of_group;    // per group: the true instance it matches, 0 = none
-  std::map<uint32_t, double> best_iou;        // per counted true instance: its best IoU with an object
+  std::vector<uint32_t> instance_of_group;  // per group: the true instance it matches, 0 = none
+  std::map<uint32_t, double> best_iou;      // per counted true instance: its best IoU with an object
 };
 
 ObjectScore scoreObjects(const objects::SurfaceVoxels& surface, const objects::Grouping& grouping,

@@ -34,8 +34,8 @@ bool isLedgeStep(const Eigen::Vector3f& a, const Eigen::Vector3f& b, const Eigen
 // A boundary between two regions, seen from one of them.
 struct Side {
   uint32_t links = 0;
-  uint32_t concave = 0;                             // of the steps between voxels of one label
-  Eigen::Vector3f mine = Eigen::Vector3f::Zero();   // sum of this region's normals at the steps
+  uint32_t concave = 0;                              // of the steps between voxels of one label
+  Eigen::Vector3f mine = Eigen::Vector3f::Zero();    // sum of this region's normals at the steps
   Eigen::Vector3f theirs = Eigen::Vector3f::Zero();  // and the other region's
 
   Side& operator+=(const Side& other) {
@@ -226,7 +226,8 @@ class Grouper {
       const auto found = regions_[a].neighbours.find(b);
       if (found == regions_[a].neighbours.end() || found->second.links != links) continue;  // changed since
       if (regions_[a].label != regions_[b].label || !accept(a, b, found->second)) continue;
-      const std::vector<int32_t> changed = neighboursOf(regions_[a].neighbours.size() < regions_[b].neighbours.size() ? a : b);
+      const std::vector<int32_t> changed =
+          neighboursOf(regions_[a].neighbours.size() < regions_[b].neighbours.size() ? a : b);
       const int32_t survivor = merge(a, b);
       for (int32_t n : changed) {
         if (n == a || n == b || !regions_[n].alive) continue;

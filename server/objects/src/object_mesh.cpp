@@ -37,8 +37,8 @@ Result<render::LabeledMesh> objectMesh(const volume::LabeledVolume& map, const o
                                        const Eigen::Vector3d& bbox_min, const Eigen::Vector3d& bbox_max) {
   const double margin = 2.0 * map.voxelSize();
   render::MeshOptions options;
-  options.bounds = render::WorldBounds{bbox_min - Eigen::Vector3d::Constant(margin),
-                                       bbox_max + Eigen::Vector3d::Constant(margin)};
+  options.bounds =
+      render::WorldBounds{bbox_min - Eigen::Vector3d::Constant(margin), bbox_max + Eigen::Vector3d::Constant(margin)};
   auto extracted = render::extractMesh(map, options);
   if (!extracted) return extracted.errorInfo();
   const render::LabeledMesh& mesh = extracted.value();

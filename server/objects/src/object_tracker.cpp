@@ -11,7 +11,7 @@
 namespace semfuse::objects {
 namespace {
 
-constexpr double kMinFloorArea = 0.25;     // m^2
+constexpr double kMinFloorArea = 0.25;      // m^2
 constexpr double kMinFloorAgreement = 0.7;  // length of the mean unit normal
 
 Stamp now() {

@@ -43,8 +43,8 @@ class Brick {
             dst[axis] = to;
             src[(axis + 1) % 3] = dst[(axis + 1) % 3] = a;
             src[(axis + 2) % 3] = dst[(axis + 2) % 3] = b;
-            const volume::PackedVoxel v = neighbour->getValue(GeometryLeaf::coordToOffset(
-                openvdb::Coord(src[0], src[1], src[2])));
+            const volume::PackedVoxel v =
+                neighbour->getValue(GeometryLeaf::coordToOffset(openvdb::Coord(src[0], src[1], src[2])));
             if (volume::isObserved(v)) at(dst[0], dst[1], dst[2]) = volume::unpackTsdf(v);
           }
       }

@@ -72,8 +72,9 @@ std::vector<FrameRef> ViewIndex::framesSeeing(const std::vector<openvdb::Coord>&
       if (frames.frames[i] >= first_frame_) ++hits[frames.frames[i]];
   }
   std::vector<std::pair<uint32_t, uint32_t>> ranked(hits.begin(), hits.end());
-  std::sort(ranked.begin(), ranked.end(),
-            [](const auto& a, const auto& b) { return a.second > b.second || (a.second == b.second && a.first > b.first); });
+  std::sort(ranked.begin(), ranked.end(), [](const auto& a, const auto& b) {
+    return a.second > b.second || (a.second == b.second && a.first > b.first);
+  });
   total = static_cast<uint32_t>(ranked.size());
   std::vector<FrameRef> out;
   for (std::size_t i = 0; i < ranked.size() && i < max_frames; ++i) {

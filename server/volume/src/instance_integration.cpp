@@ -101,7 +101,7 @@ Result<InstanceStats> integrateInstances(LabeledVolume& volume, const cv::Mat& d
 
   // 2. Segments to map instances.
   std::unordered_map<uint16_t, std::pair<uint32_t, uint32_t>> segment_voxels;  // (all, naming an instance)
-  std::vector<std::tuple<uint32_t, uint16_t, uint32_t>> pairs;                  // (voxels, segment, instance)
+  std::vector<std::tuple<uint32_t, uint16_t, uint32_t>> pairs;                 // (voxels, segment, instance)
   for (const auto& [key, count] : counts) {
     const auto segment = static_cast<uint16_t>(key >> 32);
     const auto instance = static_cast<uint32_t>(key & 0xFFFFFFFFu);

@@ -31,8 +31,8 @@ struct Group {
   LabelId label = kUnlabeled;
   uint64_t voxel_count = 0;
   double area_m2 = 0.0;
-  bool fragment = false;   // smaller than min_object_area_m2
-  uint32_t instance = 0;   // the panoptic instance most of its voxels name, 0 = none
+  bool fragment = false;  // smaller than min_object_area_m2
+  uint32_t instance = 0;  // the panoptic instance most of its voxels name, 0 = none
 };
 
 struct Grouping {

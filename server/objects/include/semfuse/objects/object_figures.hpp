@@ -29,7 +29,7 @@ struct ObjectFigures {
   Eigen::Vector3d bbox_min = Eigen::Vector3d::Zero();  // axis-aligned
   Eigen::Vector3d bbox_max = Eigen::Vector3d::Zero();
   OrientedBox box;
-  float mean_confidence = 0.0f;  // mean label score of the voxels
+  float mean_confidence = 0.0f;        // mean label score of the voxels
   std::vector<openvdb::Coord> leaves;  // origins of the 8^3 leaves its voxels lie in, sorted
 };
 

@@ -38,10 +38,10 @@ struct TrackedObject {
 
 // The objects of one snapshot of the map.
 struct ObjectSet {
-  std::vector<TrackedObject> objects;              // objects largest first, then fragments
-  std::shared_ptr<const openvdb::Int32Tree> ids;   // object id of every surface voxel
-  Eigen::Vector3d up = Eigen::Vector3d::Zero();    // the up the grouping used (zero: unknown)
-  uint64_t update = 0;                             // the update that made it
+  std::vector<TrackedObject> objects;             // objects largest first, then fragments
+  std::shared_ptr<const openvdb::Int32Tree> ids;  // object id of every surface voxel
+  Eigen::Vector3d up = Eigen::Vector3d::Zero();   // the up the grouping used (zero: unknown)
+  uint64_t update = 0;                            // the update that made it
   const TrackedObject* find(uint32_t id) const;
 };
 
