@@ -9,7 +9,10 @@ void ObjectsCodec::encodeRequest(const Request& request, WireRequest& out) {
 }
 
 Result<ObjectsRequest> ObjectsCodec::decodeRequest(const WireRequest& wire) {
-  return ObjectsRequest{wire.label, wire.min_voxels};
+  ObjectsRequest request;
+  request.label = wire.label;
+  request.min_voxels = wire.min_voxels;
+  return request;
 }
 
 void ObjectsCodec::encodeReply(const ServiceReply<Reply>& reply, WireReply& out) {
@@ -30,13 +33,15 @@ void ObjectsCodec::encodeReply(const ServiceReply<Reply>& reply, WireReply& out)
 Result<ServiceReply<std::vector<ObjectInstance>>> ObjectsCodec::decodeReply(const WireReply& wire) {
   return detail::decodeReplyWith<Reply>(wire, [&] {
     return detail::decodeSequence("objects", wire.objects, [](const semfuse_msg_dds__ObjectInstance_& o) {
-      return ObjectInstance{o.id,
-                            o.label,
-                            detail::fromPoint(o.bbox_min),
-                            detail::fromPoint(o.bbox_max),
-                            detail::fromPoint(o.centroid),
-                            o.voxel_count,
-                            o.mean_confidence};
+      ObjectInstance instance;
+      instance.id = o.id;
+      instance.label = o.label;
+      instance.bbox_min = detail::fromPoint(o.bbox_min);
+      instance.bbox_max = detail::fromPoint(o.bbox_max);
+      instance.centroid = detail::fromPoint(o.centroid);
+      instance.voxel_count = o.voxel_count;
+      instance.mean_confidence = o.mean_confidence;
+      return instance;
     });
   });
 }

@@ -38,6 +38,10 @@ Services::Services(const dds::Participant& participant, const ServerConfig& conf
     : state_(state), map_(mapper) {
   using namespace std::chrono_literals;
   limits_ = config.queries;
+  // Up from the map's floor where it has one (a map in a camera's frame has y down), else z.
+  objects::ObjectParams object_params;
+  object_params.up_from_floor = true;
+  objects_ = makeObjectTracker(mapper.legend(), config.volume.voxel_size, object_params);
   admin_.map_file = config.map_file;
   admin_.save = std::move(save);
   admin_.load = [&mapper, &fusion](const std::string& path) {
@@ -67,10 +71,11 @@ Services::Services(const dds::Participant& participant, const ServerConfig& conf
       [this](const LabelsAtRequest& request) { return handleLabelsAt(request, map_, limits_); });
   region_server_ = serve<wire::RegionCodec>(participant, topics::region(),
                                             [this](const Box& box) { return handleRegion(box, map_); });
-  objects_server_ = serve<wire::ObjectsCodec>(
-      participant, topics::objects(), [this](const ObjectsRequest& request) { return handleObjects(request, map_); });
+  objects_server_ = serve<wire::ObjectsCodec>(participant, topics::objects(), [this](const ObjectsRequest& request) {
+    return handleObjects(request, map_, *objects_);
+  });
   mesh_server_ = serve<wire::MeshCodec>(participant, topics::mesh(), [this](const MeshRequest& request) {
-    return handleMesh(request, map_, meshes_, limits_);
+    return handleMesh(request, map_, meshes_, limits_, objects_.get());
   });
   admin_server_ = serve<wire::AdminCodec>(
       participant, topics::admin(), [this](const AdminRequest& request) { return handleAdmin(request, admin_); },
