@@ -85,6 +85,7 @@ struct Region {
   std::vector<std::pair<LabelId, double>> label_areas;  // area per label
   LabelId label = kUnlabeled;                           // the label of most of the area
   InstanceVotes instances;
+  openvdb::CoordBBox bounds;  // of its voxels
   std::unordered_map<int32_t, Side> neighbours;
 
   void addLabelArea(LabelId id, double a) {
@@ -120,6 +121,7 @@ class Grouper {
     // Pieces just absorbed may have been all that lay between two objects: their boundary is
     // direct now.
     mergeWhile([&](int32_t a, int32_t b, const Side& side) { return partOf(a, b, side); });
+    absorbEnclosed();
     return finish();
   }
 
@@ -155,6 +157,7 @@ class Grouper {
       region.area += surface_[i].area_m2;
       region.addLabelArea(surface_[i].label, surface_[i].area_m2);
       region.instances.add(surface_[i].instance);
+      region.bounds.expand(surface_[i].ijk);
     }
     for (Region& region : regions_) region.updateLabel();
     region_of_ = UnionFind(regions_.size());
@@ -194,6 +197,7 @@ class Grouper {
     for (const auto& [label, area] : gone.label_areas) keep.addLabelArea(label, area);
     keep.updateLabel();
     keep.instances.add(gone.instances);
+    keep.bounds.expand(gone.bounds);
     keep.neighbours.erase(b);
     for (auto& [n, side] : gone.neighbours) {
       if (n == a) continue;
@@ -298,6 +302,34 @@ class Grouper {
       for (const auto& [small, into] : moves) {
         const int32_t a = region_of_.find(small), b = region_of_.find(into);
         if (a != b) merge(a, b);
+      }
+    }
+  }
+
+  // Stage 5: a piece of a large object that what stands in front of it cut off (a strip of floor
+  // between two chairs, the edge of a cabinet behind a sphere) shares no link with it, but lies
+  // within its box and is much smaller: it joins the largest such object of its label.
+  void absorbEnclosed() {
+    const int margin = std::max(1, static_cast<int>(std::lround(params_.enclosing_margin_m / surface_.voxelSize())));
+    std::vector<int32_t> alive;
+    for (int32_t r = 0; r < static_cast<int32_t>(regions_.size()); ++r)
+      if (regions_[r].alive) alive.push_back(r);
+    std::sort(alive.begin(), alive.end(), [&](int32_t a, int32_t b) { return regions_[a].area > regions_[b].area; });
+    // A merge keeps whichever index has more neighbours: regions are looked up through region_of_.
+    for (std::size_t i = alive.size(); i-- > 0;) {
+      const int32_t small = region_of_.find(alive[i]);
+      const Region& piece = regions_[small];
+      for (std::size_t j = 0; j < i; ++j) {
+        const int32_t large = region_of_.find(alive[j]);
+        const Region& whole = regions_[large];
+        if (large == small || whole.label != piece.label) continue;
+        if (whole.area < params_.enclosed_area_ratio * piece.area) continue;
+        if (instancesConflict(whole.instances.dominant(), piece.instances.dominant())) continue;
+        openvdb::CoordBBox grown = whole.bounds;
+        grown.expand(margin);
+        if (!grown.isInside(piece.bounds)) continue;
+        merge(large, small);
+        break;
       }
     }
   }

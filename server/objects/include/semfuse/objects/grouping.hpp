@@ -17,6 +17,8 @@
 //  4. Fragments. A group smaller than the minimum area joins the object it has the most links
 //     with, of its own label if it touches one (label noise, a crease strip, a stray leg piece);
 //     one that touches no object stays a fragment.
+//  5. Enclosed pieces. A region inside the box of a region of its label twenty times larger joins
+//     it: what stands in front of an object cuts pieces off it that share no link with it.
 // An object's label is the one most of its area carries.
 #include <cstdint>
 #include <vector>

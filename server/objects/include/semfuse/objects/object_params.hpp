@@ -26,6 +26,10 @@ struct ObjectParams {
   bool up_from_floor = false;
   // A valley opens upwards when the sum of the two sides' mean normals is within this of up.
   double support_valley_angle_deg = 55.0;
+  // A region of one label that lies inside the box (grown by the margin) of a region of its label
+  // at least this many times larger joins it: a piece cut off by what stands in front.
+  double enclosed_area_ratio = 20.0;
+  double enclosing_margin_m = 0.1;
   // A voxel's panoptic instance counts when its evidence reaches this many observations.
   int min_instance_evidence = 2;
 };
