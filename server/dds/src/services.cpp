@@ -3,6 +3,8 @@
 #include <chrono>
 #include <utility>
 
+#include <spdlog/spdlog.h>
+
 #include "tbb_worker_names.hpp"
 
 namespace semfuse::server {
@@ -42,6 +44,13 @@ Services::Services(const dds::Participant& participant, const ServerConfig& conf
   objects::ObjectParams object_params;
   object_params.up_from_floor = true;
   objects_ = makeObjectTracker(mapper.legend(), config.volume.voxel_size, object_params);
+  // Until the status or a topic carries them, the objects' changes go to the log.
+  objects_->setListener([](const ObjectEvents& update) {
+    std::size_t counts[4] = {0, 0, 0, 0};
+    for (const ObjectEvent& event : update.events) ++counts[static_cast<int>(event.kind)];
+    spdlog::info("objects update {}: {} objects; {} appeared, {} merged, {} split, {} vanished", update.update,
+                 update.object_count, counts[0], counts[1], counts[2], counts[3]);
+  });
   admin_.map_file = config.map_file;
   admin_.save = std::move(save);
   admin_.load = [&mapper, &fusion](const std::string& path) {
