@@ -69,8 +69,8 @@ int runObjectsBench(const ObjectsBenchOptions& o) {
     objects = fragments = 0;
     for (const auto& object : set->objects) (object.fragment ? fragments : objects) += 1;
   }
-  Table table("objects query, synthetic room (" + std::to_string(o.frames) + " frames, " + formatNumber(o.voxel * 100, 0) +
-              " cm voxels)");
+  Table table("objects query, synthetic room (" + std::to_string(o.frames) + " frames, " +
+              formatNumber(o.voxel * 100, 0) + " cm voxels)");
   table.add("surface voxels", std::to_string(surface_voxels));
   table.add("objects / fragments", std::to_string(objects) + " / " + std::to_string(fragments));
   table.addMs("surface extraction alone", surface_only);
