@@ -11,6 +11,8 @@
 # starts is stopped when it ends, also on Ctrl-C or failure.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+# shellcheck source=deploy/processes.sh
+source "$root/deploy/processes.sh"
 
 dataset=synthetic
 frames=120
@@ -41,24 +43,12 @@ done
 [[ $build -eq 1 ]] && "$root/deploy/build.sh" release
 server="$build_dir/server/app/semfuse-server"
 bin="$build_dir/client"
-for program in "$server" "$bin/semfuse-camera" "$bin/semfuse-segmenter" "$bin/semfuse-query"; do
-  [[ -x "$program" ]] || { echo "demo: $program not built (run deploy/build.sh)" >&2; exit 1; }
-done
+require_programs "$server" "$bin/semfuse-camera" "$bin/semfuse-segmenter" "$bin/semfuse-query"
 
-# Loopback only, and a domain of our own so that other semfuse runs on this host do not mix in.
-export CYCLONEDDS_URI="file://$root/deploy/dds/localhost.xml"
-domain=$(( 100 + $$ % 100 ))
-dds=(--domain-id "$domain")
+start_loopback_dds
 
 rm -rf "$out"
 mkdir -p "$out/logs"
-pids=()
-cleanup() {
-  for pid in "${pids[@]}"; do kill -TERM "$pid" 2>/dev/null || true; done
-  for pid in "${pids[@]}"; do wait "$pid" 2>/dev/null || true; done
-}
-trap cleanup EXIT
-trap 'echo "demo: interrupted" >&2; exit 130' INT TERM
 
 log() { printf '\033[1mdemo:\033[0m %s\n' "$*"; }
 query() { "$bin/semfuse-query" "${dds[@]}" "$@"; }

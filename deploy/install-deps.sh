@@ -20,6 +20,8 @@ packages=(
   clang libclang-rt-14-dev  # deploy/fuzz.sh: libFuzzer + sanitizers
   clang-format  # deploy/check-format.sh (ctest source_format)
   libfastrtps-dev fastdds-tools fastddsgen  # tests/interop: an independent DDS peer (fastddsgen pulls in a JRE)
+  pybind11-dev python3-dev python3-numpy  # the Python package (client/python)
+  python3-pytest python3-opencv python3-mypy  # its tests, its OpenCV dnn example, its type-stub check
 )
 command -v npm >/dev/null 2>&1 || packages+=(npm)  # tests/interop/foxglove; nodesource's nodejs ships its own npm
 

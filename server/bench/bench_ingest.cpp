@@ -14,8 +14,8 @@
 //    time travels in the frame's header stamp, which the server echoes in the pose), server CPU
 //    and RSS (/proc), raycast reply times; plus what tells where the time goes: per-thread CPU of
 //    the server and the tracking/integration times the server reports in each TrackedPose.
-//  The parts are in ingest/: the server process, /proc readings, the preloaded frames, the camera
-//  threads, the pose collector, the runs and the table.
+//  The parts are in ingest/: /proc readings, the preloaded frames, the camera threads, the pose
+//  collector, the runs and the table; the server runs as a cli::ChildProcess.
 #include <unistd.h>
 
 #include <cstdio>
@@ -32,7 +32,7 @@
 #include "ingest/interrupt.hpp"
 #include "ingest/preloaded_frames.hpp"
 #include "ingest/process_stats.hpp"
-#include "ingest/server_process.hpp"
+#include "semfuse/cli/child_process.hpp"
 
 namespace semfuse::bench::ingest {
 namespace {
@@ -63,7 +63,7 @@ int runIngestBench(const IngestOptions& options) {
                                 "--log-level",  "warn"};
   args.insert(args.end(), options.server_args.begin(), options.server_args.end());
   std::printf("server: %s (domain %d)\n", options.server.c_str(), domain);
-  auto server = ServerProcess::start(args);
+  auto server = cli::ChildProcess::start(args);
   if (!server) {
     std::fprintf(stderr, "%s\n", server.error().c_str());
     return 2;

@@ -24,16 +24,6 @@ class Relocalisation : public ::testing::Test {
     tracker_ = std::make_unique<Tracker>(config);
   }
 
-  // 2 cm and 0.5 degrees per step, turning towards the far corner.
-  static Pose pathPose(int i) {
-    Pose step = Pose::Identity();
-    step.linear() = Eigen::AngleAxisd(0.5 * M_PI / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-    step.translation() = Eigen::Vector3d(0.02, 0.0, 0.0);
-    Pose pose = referencePose();
-    for (int k = 0; k < i; ++k) pose = pose * step;
-    return pose;
-  }
-
   Frame frameAt(const Pose& pose, const std::string& camera = "cam") const {
     const synthetic::RenderedView view = renderOrDie(scene_, pose);
     Frame frame;

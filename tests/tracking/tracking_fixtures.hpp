@@ -1,6 +1,7 @@
 #pragma once
 // Shared set-up of the tracking tests: the synthetic room, a camera that sees a good part of it,
 // and rigid offsets of the size the tracker must recover (rotation <= 10 deg, translation <= 10 cm).
+#include <cmath>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -36,6 +37,17 @@ inline Pose referencePose() {
 inline Eigen::AlignedBox3d roomInterior() {
   // 5 cm margin: surface points must not fall outside through rounding.
   return {Eigen::Vector3d(-2.55, -2.05, -0.05), Eigen::Vector3d(2.55, 2.05, 2.65)};
+}
+
+// A short smooth path from referencePose(): 2 cm and 0.5 degrees per step, turning towards the
+// far corner.
+inline Pose pathPose(int i) {
+  Pose step = Pose::Identity();
+  step.linear() = Eigen::AngleAxisd(0.5 * M_PI / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  step.translation() = Eigen::Vector3d(0.02, 0.0, 0.0);
+  Pose pose = referencePose();
+  for (int k = 0; k < i; ++k) pose = pose * step;
+  return pose;
 }
 
 struct RigidOffset {

@@ -1,6 +1,7 @@
 // semfuse-query: one subcommand per service of the semfuse server (raycast, labels-at, region,
-// objects, mesh, status, save, load, reset) and the poses topic (poses). Exit codes: 0 ok, 2 usage, 3 server error, 4
-// timeout.
+// objects, mesh, status, save, load, reset), the poses topic (poses) and the distance field's
+// services (distance, occupancy, semantic-distance, semantic-slice, segment-check:
+// distance_commands.hpp). Exit codes: 0 ok, 2 usage, 3 server error, 4 timeout.
 #include <chrono>
 #include <fstream>
 #include <functional>
@@ -14,6 +15,7 @@
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
+#include "distance_commands.hpp"
 #include "raycast_output.hpp"
 #include "report.hpp"
 #include "semfuse/cli/command_line.hpp"
@@ -277,6 +279,10 @@ class Query {
     return cli::kExitOk;
   }
 
+  int distanceCommand(const tools::DistanceCommands& commands) {
+    return commands.run(map_, timeout_, [this]() -> const LabelLegend& { return legend(); });
+  }
+
   int admin(const std::string& command) {
     client::CallResult<client::ServerStatus> result = command == "save"   ? map_.save(o_.path, timeout_)
                                                       : command == "load" ? map_.load(o_.path, timeout_)
@@ -421,6 +427,9 @@ int main(int argc, char** argv) {
   poses->add_flag("--include-lost", o.include_lost,
                   "also write frames that were not integrated (at the camera's last pose; csv says which)");
 
+  tools::DistanceOptions distance_options;
+  const tools::DistanceCommands distance_commands(app, distance_options);
+
   if (const int code = cli::parseCommandLine(app, argc, argv); code >= 0) return code;
   if (Status s = setupLogging("semfuse-query", o.common.log_level); !s) {
     spdlog::error("{}", s.error());
@@ -439,6 +448,7 @@ int main(int argc, char** argv) {
     if (load->parsed()) return query.admin("load");
     if (reset->parsed()) return query.admin("reset");
     if (poses->parsed()) return query.poses();
+    if (distance_commands.parsed()) return query.distanceCommand(distance_commands);
   } catch (const dds::DdsError& e) {
     spdlog::error("DDS: {}", e.what());
     return cli::kExitFailure;

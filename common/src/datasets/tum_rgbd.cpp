@@ -8,6 +8,8 @@
 
 #include "image_files.hpp"
 #include "semfuse/core/camera_check.hpp"
+#include "semfuse/datasets/tum_trajectory.hpp"
+#include "tum_lines.hpp"
 
 namespace semfuse::datasets {
 namespace fs = std::filesystem;
@@ -19,32 +21,9 @@ struct TimedFile {
   fs::path file;
 };
 
-struct TimedPose {
-  double time = 0.0;
-  Pose pose;
-};
-
-// Data lines of a TUM list file, with their line numbers; '#' lines and blank lines skipped.
-Result<std::vector<std::pair<int, std::string>>> dataLines(const fs::path& file) {
-  std::ifstream in(file);
-  if (!in) return makeError("TUM list missing or unreadable: " + file.string());
-  std::vector<std::pair<int, std::string>> lines;
-  std::string line;
-  for (int number = 1; std::getline(in, line); ++number) {
-    const auto first = line.find_first_not_of(" \t\r");
-    if (first == std::string::npos || line[first] == '#') continue;
-    lines.emplace_back(number, line);
-  }
-  return lines;
-}
-
-Error lineError(const fs::path& file, int line, const std::string& what) {
-  return makeError(file.string() + ":" + std::to_string(line) + ": " + what);
-}
-
 // rgb.txt / depth.txt: "timestamp filename", sorted by time.
 Result<std::vector<TimedFile>> readFileList(const fs::path& file) {
-  auto lines = dataLines(file);
+  auto lines = tumDataLines(file);
   if (!lines) return makeError(lines.error());
   std::vector<TimedFile> list;
   for (const auto& [number, text] : lines.value()) {
@@ -52,7 +31,7 @@ Result<std::vector<TimedFile>> readFileList(const fs::path& file) {
     TimedFile entry;
     std::string name;
     if (!(parse >> entry.time >> name) || !std::isfinite(entry.time)) {
-      return lineError(file, number, "expected 'timestamp filename', got '" + text + "'");
+      return tumLineError(file, number, "expected 'timestamp filename', got '" + text + "'");
     }
     entry.file = name;
     list.push_back(std::move(entry));
@@ -60,34 +39,6 @@ Result<std::vector<TimedFile>> readFileList(const fs::path& file) {
   if (list.empty()) return makeError("TUM list has no entries: " + file.string());
   std::sort(list.begin(), list.end(), [](const TimedFile& a, const TimedFile& b) { return a.time < b.time; });
   return list;
-}
-
-// groundtruth.txt: "timestamp tx ty tz qx qy qz qw", sorted by time.
-Result<std::vector<TimedPose>> readGroundTruth(const fs::path& file) {
-  auto lines = dataLines(file);
-  if (!lines) return makeError(lines.error());
-  std::vector<TimedPose> poses;
-  for (const auto& [number, text] : lines.value()) {
-    std::istringstream parse(text);
-    double t = 0, tx = 0, ty = 0, tz = 0, qx = 0, qy = 0, qz = 0, qw = 0;
-    if (!(parse >> t >> tx >> ty >> tz >> qx >> qy >> qz >> qw)) {
-      return lineError(file, number, "expected 'timestamp tx ty tz qx qy qz qw', got '" + text + "'");
-    }
-    Eigen::Quaterniond q(qw, qx, qy, qz);
-    const double norm = q.norm();
-    if (!std::isfinite(norm) || std::abs(norm - 1.0) > 1e-3) {
-      return lineError(file, number, "quaternion norm " + std::to_string(norm) + " is not 1");
-    }
-    TimedPose sample;
-    sample.time = t;
-    sample.pose = Pose::Identity();
-    sample.pose.linear() = q.normalized().toRotationMatrix();
-    sample.pose.translation() = Eigen::Vector3d(tx, ty, tz);
-    if (Status s = checkRigidPose(sample.pose); !s) return lineError(file, number, s.error());
-    poses.push_back(sample);
-  }
-  std::sort(poses.begin(), poses.end(), [](const TimedPose& a, const TimedPose& b) { return a.time < b.time; });
-  return poses;
 }
 
 // Index of the element of a time-sorted list nearest to `time`, if within `window` seconds.
@@ -107,28 +58,6 @@ std::optional<std::size_t> nearestInTime(const std::vector<T>& sorted, double ti
   if (after != sorted.end()) consider(after);
   if (after != sorted.begin()) consider(std::prev(after));
   return best;
-}
-
-// The ground-truth pose at `time`: interpolated between the samples on either side when both are
-// within `window` seconds (translation linearly, rotation by slerp; the motion-capture rate is
-// ~100 Hz against the camera's 30 Hz, so a nearest sample would be up to 5 ms off), else the
-// nearest sample within the window, else none.
-std::optional<Pose> poseAt(const std::vector<TimedPose>& sorted, double time, double window) {
-  auto after = std::lower_bound(sorted.begin(), sorted.end(), time,
-                                [](const TimedPose& item, double t) { return item.time < t; });
-  if (after != sorted.end() && after != sorted.begin()) {
-    const TimedPose& before = *std::prev(after);
-    if (time - before.time <= window && after->time - time <= window && after->time > before.time) {
-      const double f = (time - before.time) / (after->time - before.time);
-      const Eigen::Quaterniond q0(before.pose.linear()), q1(after->pose.linear());
-      Pose pose = Pose::Identity();
-      pose.linear() = q0.slerp(f, q1).normalized().toRotationMatrix();
-      pose.translation() = (1.0 - f) * before.pose.translation() + f * after->pose.translation();
-      return pose;
-    }
-  }
-  if (const auto nearest = nearestInTime(sorted, time, window)) return sorted[*nearest].pose;
-  return std::nullopt;
 }
 
 }  // namespace
@@ -180,7 +109,7 @@ Result<TumRgbdReader> TumRgbdReader::open(const fs::path& folder, TumRgbdOptions
   if (!color_list) return makeError(color_list.error());
   std::vector<TimedPose> poses;
   if (fs::exists(folder / "groundtruth.txt", ec)) {
-    auto ground_truth = readGroundTruth(folder / "groundtruth.txt");
+    auto ground_truth = readTumTrajectory(folder / "groundtruth.txt");
     if (!ground_truth) return makeError(ground_truth.error());
     poses = std::move(ground_truth).value();
   }
@@ -191,7 +120,7 @@ Result<TumRgbdReader> TumRgbdReader::open(const fs::path& folder, TumRgbdOptions
     if (!color_index) continue;
     const TimedFile& color = color_list.value()[*color_index];
     Entry entry{depth.time, depth.file, color.time, color.file, std::nullopt};
-    entry.camera_to_world = poseAt(poses, depth.time, window);
+    entry.camera_to_world = trajectoryPoseAt(poses, depth.time, window);
     reader.entries_.push_back(std::move(entry));
   }
   if (reader.entries_.empty()) {

@@ -61,6 +61,7 @@ Qos status() { return std::move(Qos().reliable(kMaxBlockingTime).keepLast(1).tra
 Qos legend() { return std::move(Qos().reliable(kMaxBlockingTime).keepLast(1).transientLocal()); }
 Qos service() { return std::move(Qos().reliable(kMaxBlockingTime).keepLast(10).volatileDurability()); }
 Qos sensorData() { return std::move(Qos().bestEffort().keepLast(5).volatileDurability()); }
+Qos occupancy() { return std::move(Qos().reliable(kMaxBlockingTime).keepLast(1).transientLocal()); }
 
 }  // namespace qos
 }  // namespace semfuse::dds

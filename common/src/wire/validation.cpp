@@ -6,18 +6,15 @@
 
 #include <opencv2/core.hpp>
 
+#include "semfuse/core/number_text.hpp"
+
 namespace semfuse::wire {
+
 namespace {
 
 constexpr std::array<uint8_t, 8> kPngSignature = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
 bool hasPngSignature(const uint8_t* data, std::size_t size) {
   return size >= kPngSignature.size() && std::equal(kPngSignature.begin(), kPngSignature.end(), data);
-}
-
-std::string number(double value) {
-  std::ostringstream out;
-  out << value;
-  return out.str();
 }
 
 std::string size(int64_t width, int64_t height) { return std::to_string(width) + "x" + std::to_string(height); }
@@ -158,7 +155,7 @@ Status validateConfidence(const cv::Mat& confidence) {
     const float* row = confidence.ptr<float>(y);
     for (int x = 0; x < confidence.cols; ++x) {
       if (!(row[x] >= 0.0f && row[x] <= 1.0f)) {  // also catches NaN
-        return makeError("confidence: value " + number(row[x]) + " at (" + std::to_string(x) + ", " +
+        return makeError("confidence: value " + numberText(row[x]) + " at (" + std::to_string(x) + ", " +
                          std::to_string(y) + ") outside [0, 1]");
       }
     }

@@ -9,11 +9,13 @@
 
 #include <CLI/App.hpp>
 
+#include "esdf_config.hpp"
 #include "fusion_limits.hpp"
 #include "query_limits.hpp"
 #include "ros_config.hpp"
 #include "semfuse/core/legend.hpp"
 #include "semfuse/core/result.hpp"
+#include "semfuse/tracking/tracker_params.hpp"
 #include "semfuse/volume/volume_params.hpp"
 
 namespace semfuse::server {
@@ -39,6 +41,9 @@ struct ServerConfig {
 
   // Tracking
   bool refine_given_poses = false;
+  // Weight of the photometric term of cameras without poses (tracking::TrackerParams::color_weight);
+  // 0 for sensors whose colour is not registered to their depth (7-Scenes), where it biases poses.
+  float track_color_weight = tracking::TrackerParams{}.color_weight;
 
   // Queries
   QueryLimits queries;
@@ -49,6 +54,9 @@ struct ServerConfig {
 
   // ROS 2 standard topics as input, /tf as output (--ros-ingest, YAML section `ros:`)
   RosIngestConfig ros;
+
+  // The distance field and the occupancy grid topic (--esdf, sections `esdf:` and `occupancy:`)
+  EsdfConfig esdf;
 };
 
 // Declares every option on `app` (documented for --help), bound to `config`.

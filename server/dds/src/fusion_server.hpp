@@ -7,10 +7,12 @@
 #include <memory>
 #include <mutex>
 
+#include "distance_field.hpp"
 #include "frame_queue.hpp"
 #include "fusion_loop.hpp"
 #include "ingest.hpp"
 #include "mapper.hpp"
+#include "occupancy_publisher.hpp"
 #include "process_memory.hpp"
 #include "ros_ingest.hpp"
 #include "semfuse/dds/participant.hpp"
@@ -54,7 +56,9 @@ class FusionServer {
   std::unique_ptr<Mapper> mapper_;
   std::unique_ptr<FusionLoop> fusion_;
   std::unique_ptr<Ingest> ingest_;
-  std::unique_ptr<RosIngest> ros_ingest_;  // with --ros-ingest only
+  std::unique_ptr<RosIngest> ros_ingest_;                    // with --ros-ingest only
+  std::unique_ptr<DistanceField> distance_field_;            // with --esdf only
+  std::unique_ptr<OccupancyPublisher> occupancy_publisher_;  // with --esdf only
   std::unique_ptr<Services> services_;
 
   dds::Topic<semfuse_msg_dds__TrackedPose_> pose_topic_;

@@ -36,7 +36,7 @@ Services::Server<Codec> Services::serve(const dds::Participant& participant, con
 }
 
 Services::Services(const dds::Participant& participant, const ServerConfig& config, Mapper& mapper, FusionLoop& fusion,
-                   ServerState& state, SnapshotFn snapshot, SaveFn save)
+                   ServerState& state, SnapshotFn snapshot, SaveFn save, const DistanceField* field)
     : state_(state), map_(mapper) {
   using namespace std::chrono_literals;
   limits_ = config.queries;
@@ -89,6 +89,22 @@ Services::Services(const dds::Participant& participant, const ServerConfig& conf
   admin_server_ = serve<wire::AdminCodec>(
       participant, topics::admin(), [this](const AdminRequest& request) { return handleAdmin(request, admin_); },
       /*count_refusals=*/false);
+
+  distance_ = {field, &mapper.legend(), limits_, config.esdf.max_slice_cells, config.esdf.occupancy_frame_id};
+  distance_server_ = serve<wire::DistanceCodec>(
+      participant, topics::distance(), [this](const DistanceRequest& r) { return handleDistance(r, distance_); });
+  occupancy_slice_server_ = serve<wire::OccupancySliceCodec>(
+      participant, topics::occupancySlice(),
+      [this](const OccupancySliceRequest& r) { return handleOccupancySlice(r, distance_); });
+  semantic_distance_server_ = serve<wire::SemanticDistanceCodec>(
+      participant, topics::semanticDistance(),
+      [this](const SemanticDistanceRequest& r) { return handleSemanticDistance(r, distance_); });
+  semantic_slice_server_ = serve<wire::SemanticSliceCodec>(
+      participant, topics::semanticSlice(),
+      [this](const SemanticSliceRequest& r) { return handleSemanticSlice(r, distance_); });
+  segment_check_server_ =
+      serve<wire::SegmentCheckCodec>(participant, topics::segmentCheck(),
+                                     [this](const SegmentCheckRequest& r) { return handleSegmentCheck(r, distance_); });
 }
 
 Services::~Services() = default;

@@ -1,5 +1,6 @@
 #pragma once
-// The DDS adapter of the query services (raycast, labels_at, region, objects, mesh, admin): one
+// The DDS adapter of the query services (raycast, labels_at, region, objects, mesh, admin, and the
+// distance field's distance, occupancy_slice, semantic_distance, semantic_slice, segment_check): one
 // dds::RpcServer thread per service that decodes each request with its codec
 // (common/wire/service_codecs.hpp), calls the service's handler (service_handlers.hpp: no DDS),
 // encodes the reply and writes it. Every request gets a reply: one that does not decode gets
@@ -11,6 +12,8 @@
 #include <memory>
 #include <string>
 
+#include "distance_field.hpp"
+#include "distance_handlers.hpp"
 #include "fusion_loop.hpp"
 #include "held_meshes.hpp"
 #include "mapper.hpp"
@@ -18,6 +21,7 @@
 #include "semfuse/dds/participant.hpp"
 #include "semfuse/dds/rpc.hpp"
 #include "semfuse/dds/topics.hpp"
+#include "semfuse/wire/distance_codecs.hpp"
 #include "semfuse/wire/service_codecs.hpp"
 #include "server_config.hpp"
 #include "server_state.hpp"
@@ -30,8 +34,9 @@ class Services {
   using SnapshotFn = std::function<ServerStatus()>;
   using SaveFn = std::function<Status(const std::string& path)>;
 
+  // `field` is the distance field (null without --esdf: its services answer UNAVAILABLE).
   Services(const dds::Participant& participant, const ServerConfig& config, Mapper& mapper, FusionLoop& fusion,
-           ServerState& state, SnapshotFn snapshot, SaveFn save);
+           ServerState& state, SnapshotFn snapshot, SaveFn save, const DistanceField* field = nullptr);
   ~Services();
 
  private:
@@ -51,6 +56,7 @@ class Services {
   // The map's objects, shared by the objects and mesh services so that ids stay with objects.
   std::unique_ptr<objects::ObjectTracker> objects_;
   AdminActions admin_;
+  DistanceQueryContext distance_;
   // Last, so that their threads stop before what the handlers use goes.
   Server<wire::RaycastCodec> raycast_server_;
   Server<wire::LabelsAtCodec> labels_at_server_;
@@ -58,6 +64,11 @@ class Services {
   Server<wire::ObjectsCodec> objects_server_;
   Server<wire::MeshCodec> mesh_server_;
   Server<wire::AdminCodec> admin_server_;
+  Server<wire::DistanceCodec> distance_server_;
+  Server<wire::OccupancySliceCodec> occupancy_slice_server_;
+  Server<wire::SemanticDistanceCodec> semantic_distance_server_;
+  Server<wire::SemanticSliceCodec> semantic_slice_server_;
+  Server<wire::SegmentCheckCodec> segment_check_server_;
 };
 
 }  // namespace semfuse::server

@@ -131,7 +131,7 @@ PassSystems accumulate(const std::vector<Eigen::Vector3f>& points, const std::ve
 
 }  // namespace
 
-SdfTracker::SdfTracker(TrackerParams params) : params_(std::move(params)) {}
+SdfTracker::SdfTracker(TrackerParams params) : params_(params) {}
 
 Status SdfTracker::validate(const TrackerParams& p) {
   if (std::any_of(p.max_iterations.begin(), p.max_iterations.end(), [](int n) { return n < 0; }))
@@ -267,9 +267,6 @@ TrackingQuality SdfTracker::assess(const NormalEquations& system, const NormalEq
 
 LostReason SdfTracker::judge(const TrackingQuality& q, float truncation, const Pose& guess, const Pose& result) const {
   if (q.inliers < params_.min_inliers || q.inlier_ratio < params_.min_inlier_ratio) return LostReason::kTooFewInliers;
-  // Depth that constrains only some directions is fine where colour constrains the others (or,
-  // when allowed, the start's values are kept along them).
-  if (q.constrained_dofs < 6 && !params_.accept_partially_constrained) return LostReason::kDegenerate;
   if (q.rms_residual_m > params_.max_rms_fraction * truncation) return LostReason::kHighResidual;
   // In the camera frame, so the translation is how far the camera centre moved (a world-frame
   // difference would grow with the distance from the world origin).
@@ -277,6 +274,9 @@ LostReason SdfTracker::judge(const TrackingQuality& q, float truncation, const P
   if (correction.translation().norm() > params_.max_correction_fraction * truncation ||
       rotationAngle(correction.linear()) > params_.max_correction_rad)
     return LostReason::kDiverged;
+  // Last, so that kDegenerate says the pose passed every other test: it is sound along the
+  // directions depth and colour constrain, and the start's along the others.
+  if (q.constrained_dofs < 6 && !params_.accept_partially_constrained) return LostReason::kDegenerate;
   return LostReason::kNone;
 }
 

@@ -45,6 +45,7 @@ struct Tracker::CameraState {
   ImagePyramid candidate_images;
   // Map agreement of the camera's recent trusted frames, whose median the next ones are held to.
   std::deque<double> agreements;
+  int partial_run = 0;  // frames integrated in a row that depth and colour constrained only in part
   CameraTrackingSummary summary;
 
   Pose predictNext() const { return last_pose * velocity; }
@@ -139,6 +140,8 @@ Result<TrackedFrame> Tracker::track(const Frame& frame, const SdfField& field, b
   ++state.summary.frames;
   if (out.shouldIntegrate()) {
     state.accept(out.pose, out.status);
+    const bool partial = out.status == TrackingStatus::kTracked && out.lost_reason == LostReason::kDegenerate;
+    state.partial_run = partial ? state.partial_run + 1 : 0;
     state.last_images_fresh = images_due;
     if (images_due) std::swap(state.last_images, current_images_);
     if (out.status == TrackingStatus::kTracked) {
@@ -193,7 +196,8 @@ Result<TrackedFrame> Tracker::trackWithoutPose(const SdfField& field, bool map_e
               out.image_matched >= config_.min_odometry_matched && aligned.value().quality.start == 0
                   ? out.image_matched
                   : 0.0,
-              state)) {
+              state, /*allow_partial=*/true)) {
+    // A partially constrained pose keeps kDegenerate as its reason: integrated, but worth knowing.
     out.status = TrackingStatus::kTracked;
     return out;
   }
@@ -221,12 +225,14 @@ bool Tracker::usableImageAlignment(const OdometryResult& odometry) const {
   return odometry.overlap >= config_.min_image_overlap && odometry.matched_ratio >= config_.min_odometry_matched;
 }
 
-bool Tracker::trusted(const Alignment& alignment, const Pose& start, double image_matched,
-                      const CameraState& state) const {
+bool Tracker::trusted(const Alignment& alignment, const Pose& start, double image_matched, const CameraState& state,
+                      bool allow_partial) const {
   // A large correction from the start (kDiverged) is no reason to doubt a pose on its own: a
   // relocalisation start from a keyframe may be far off. The agreement test below decides then.
   const bool diverged = alignment.lost_reason == LostReason::kDiverged;
-  if (!alignment.ok() && !diverged) return false;
+  const bool partial = alignment.lost_reason == LostReason::kDegenerate && allow_partial &&
+                       state.partial_run < config_.max_partially_constrained_frames;
+  if (!alignment.ok() && !diverged && !partial) return false;
   const double agreement = alignment.quality.observed_agreement;
   if (agreement < config_.min_agreement) return false;
   // Two independent alignments that agree: the images (frame to frame, or to a keyframe) and the
@@ -275,7 +281,7 @@ Result<TrackedFrame> Tracker::relocalise(const SdfField& field, const CameraStat
   out.image_matched = matched[static_cast<std::size_t>(aligned.value().quality.start)];
   out.guess = starts[static_cast<std::size_t>(aligned.value().quality.start)];
   out.pose = aligned.value().pose;
-  if (!trusted(aligned.value(), out.guess, out.image_matched, state)) {
+  if (!trusted(aligned.value(), out.guess, out.image_matched, state, /*allow_partial=*/false)) {
     if (!aligned.value().ok()) out.lost_reason = aligned.value().lost_reason;
     return out;
   }
@@ -319,6 +325,7 @@ void Tracker::integrated(const Frame& frame, const TrackedFrame& tracked) {
   if (found == cameras_.end() || !found->second->last_images_fresh) return;
   // Only frames whose pose is beyond doubt become keyframes: a wrong keyframe would relocalise a
   // camera to a wrong pose later.
+  if (tracked.lost_reason == LostReason::kDegenerate) return;
   if (tracked.status == TrackingStatus::kTracked) {
     const std::optional<double> typical = found->second->typicalAgreement();
     if (typical && tracked.quality.observed_agreement < *typical - 0.5 * config_.max_agreement_drop) return;

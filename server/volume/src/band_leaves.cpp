@@ -48,11 +48,12 @@ void markCellsOnSegment(const Eigen::Vector3f& a, const Eigen::Vector3f& b, Acce
   }
   keys.setValueOn(last);  // in case rounding stopped the walk one cell short
 }
-}  // namespace
 
-std::vector<openvdb::Coord> bandLeafOrigins(const FrameView& frame, double voxel_size, double truncation,
-                                            int pixel_stride) {
-  const float trunc = static_cast<float>(truncation);
+// Origins of the leaves that the segments [near(d), far(d)] (camera depths) along the rays of the
+// sampled valid pixels pass through, in tree order. Parallel over image rows.
+template <typename Segment>
+std::vector<openvdb::Coord> leavesAlongRays(const FrameView& frame, double voxel_size, int pixel_stride,
+                                            Segment segment) {
   // Everything in leaf units, shifted by half a voxel: voxel i's cell is [i - 0.5, i + 0.5), so
   // the leaf holding point p (voxel units) is floor((p + 0.5) / 8), the unit cell of q = (p + 0.5) / 8.
   const float inv_leaf = static_cast<float>(1.0 / (voxel_size * (1 << kLeafLog2)));
@@ -71,11 +72,11 @@ std::vector<openvdb::Coord> bandLeafOrigins(const FrameView& frame, double voxel
       for (int u = 0; u < frame.width; u += pixel_stride) {
         const float d = depth_row[u];
         if (!frame.validDepth(d)) continue;
+        const float near = segment.near(d), far = segment.far(d);
+        if (!(far > near)) continue;
         const Eigen::Vector3f direction =
             rotation * Eigen::Vector3f((u - frame.cx) / frame.fx, (v - frame.cy) / frame.fy, 1.0f);
-        const Eigen::Vector3f a = origin + direction * std::max(d - trunc, 0.0f);
-        const Eigen::Vector3f b = origin + direction * (d + trunc);
-        markCellsOnSegment(a, b, keys);
+        markCellsOnSegment(origin + direction * near, origin + direction * far, keys);
       }
     }
   });
@@ -89,6 +90,29 @@ std::vector<openvdb::Coord> bandLeafOrigins(const FrameView& frame, double voxel
     origins.emplace_back(key.x() * (1 << kLeafLog2), key.y() * (1 << kLeafLog2), key.z() * (1 << kLeafLog2));
   }
   return origins;
+}
+
+}  // namespace
+
+std::vector<openvdb::Coord> bandLeafOrigins(const FrameView& frame, double voxel_size, double truncation,
+                                            int pixel_stride) {
+  struct Band {
+    float trunc;
+    float near(float d) const { return std::max(d - trunc, 0.0f); }
+    float far(float d) const { return d + trunc; }
+  };
+  return leavesAlongRays(frame, voxel_size, pixel_stride, Band{static_cast<float>(truncation)});
+}
+
+std::vector<openvdb::Coord> freeSpaceLeafOrigins(const FrameView& frame, double voxel_size, double truncation,
+                                                 int pixel_stride) {
+  struct InFrontOfBand {
+    float trunc, min_depth;
+    float near(float) const { return min_depth; }
+    float far(float d) const { return d - trunc; }
+  };
+  return leavesAlongRays(frame, voxel_size, pixel_stride,
+                         InFrontOfBand{static_cast<float>(truncation), frame.min_depth});
 }
 
 }  // namespace semfuse::volume::detail

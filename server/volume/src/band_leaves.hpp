@@ -1,5 +1,6 @@
 #pragma once
-// Internal: which leaves the truncation band of a depth image touches.
+// Internal: which leaves the truncation band of a depth image touches, and which leaves its rays
+// cross in front of the band.
 #include <vector>
 
 #include <openvdb/openvdb.h>
@@ -19,5 +20,10 @@ inline constexpr int kBandSearchPixelStride = 4;
 // the ray of a sampled valid pixel, in tree order (spatially coherent). Parallel over image rows.
 std::vector<openvdb::Coord> bandLeafOrigins(const FrameView& frame, double voxel_size, double truncation,
                                             int pixel_stride = kBandSearchPixelStride);
+
+// Origins of the leaves that the rays of sampled valid pixels cross in front of the band, from
+// the camera's min_depth to d - truncation: the candidates for observed free space.
+std::vector<openvdb::Coord> freeSpaceLeafOrigins(const FrameView& frame, double voxel_size, double truncation,
+                                                 int pixel_stride);
 
 }  // namespace semfuse::volume::detail

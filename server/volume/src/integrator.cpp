@@ -113,6 +113,7 @@ Result<IntegrationStats> integrate(LabeledVolume& volume, const cv::Mat& depth, 
   else if (with_labels) updateLeaves<true, false, true>(leaves, frame, config, stats);
   else updateLeaves<true, false, false>(leaves, frame, config, stats);
 
+  volume.markChanged(origins);
   volume.setFramesIntegrated(volume.framesIntegrated() + 1);
   return stats;
 }
@@ -141,15 +142,20 @@ Result<IntegrationStats> integrateLabels(LabeledVolume& volume, const cv::Mat& d
   stats.leaves_touched = origins.size();
   std::vector<LeafPair> leaves;
   leaves.reserve(origins.size());
+  std::vector<openvdb::Coord> labeled;
+  labeled.reserve(origins.size());
   auto geometry = volume.mutableGeometryGrid().getAccessor();
   LabelSidecarGrid* sidecar_grid = volume.mutableLabelSidecarGrid();
   for (const openvdb::Coord& origin : origins)
-    if (GeometryLeaf* leaf = geometry.probeLeaf(origin))
+    if (GeometryLeaf* leaf = geometry.probeLeaf(origin)) {
       // Sidecar leaves were allocated with their geometry leaf (same topology), so touch finds them.
       leaves.push_back({leaf, nullptr, sidecar_grid ? sidecar_grid->tree().touchLeaf(origin) : nullptr});
+      labeled.push_back(origin);
+    }
 
   const std::unique_ptr<IgnoredLabels> ignored = detail::ignoredLabels(params);
   updateLeaves<false, false, true>(leaves, frame, kernelConfig(params, ignored.get()), stats);
+  volume.markChanged(labeled);
   return stats;
 }
 

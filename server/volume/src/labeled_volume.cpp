@@ -16,7 +16,8 @@ Result<LabeledVolume> LabeledVolume::create(const VolumeParams& params) {
   return LabeledVolume(params);
 }
 
-LabeledVolume::LabeledVolume(const VolumeParams& params) : params_(params) {
+LabeledVolume::LabeledVolume(const VolumeParams& params)
+    : params_(params), leaf_revisions_(std::make_shared<RevisionTree>(0)) {
   assert(params_.validate().ok());
   openvdb::initialize();  // idempotent; registers grid types for I/O
   geometry_ = GeometryGrid::create(kUnobservedVoxel);
@@ -41,7 +42,11 @@ LabeledVolume LabeledVolume::deepCopy() const {
   if (label_sidecar_) copy.label_sidecar_ = label_sidecar_->deepCopy();
   if (instances_) copy.instances_ = instances_->deepCopy();
   copy.next_instance_id_ = next_instance_id_;
+  if (free_space_) copy.free_space_ = free_space_->deepCopy();
   copy.frames_integrated_ = frames_integrated_;
+  copy.leaf_revisions_ = std::make_shared<RevisionTree>(*leaf_revisions_);
+  copy.revision_ = revision_;
+  copy.replaced_at_ = replaced_at_;
   return copy;
 }
 
@@ -73,7 +78,77 @@ void LabeledVolume::clear() {
   if (label_sidecar_) label_sidecar_->clear();
   instances_.reset();
   next_instance_id_ = 1;
+  if (free_space_) free_space_->clear();
   frames_integrated_ = 0;
+  leaf_revisions_->clear();
+  replaced_at_ = ++revision_;
+}
+
+FreeSpaceGrid& LabeledVolume::mutableFreeSpaceGrid() {
+  if (!free_space_) {
+    free_space_ = FreeSpaceGrid::create(false);
+    free_space_->setTransform(voxelTransform(params_.voxel_size));
+    free_space_->setName("free_space");
+  }
+  return *free_space_;
+}
+
+void LabeledVolume::setFreeSpaceGrid(FreeSpaceGrid::Ptr grid) {
+  free_space_ = std::move(grid);
+  if (!free_space_) return;
+  free_space_->setTransform(voxelTransform(params_.voxel_size));
+  free_space_->setName("free_space");
+}
+
+namespace {
+constexpr int kLeafLog2 = 3;
+openvdb::Coord leafKey(const openvdb::Coord& origin) {
+  return {origin.x() >> kLeafLog2, origin.y() >> kLeafLog2, origin.z() >> kLeafLog2};
+}
+openvdb::Coord keyOrigin(const openvdb::Coord& key) {
+  return {key.x() * (1 << kLeafLog2), key.y() * (1 << kLeafLog2), key.z() * (1 << kLeafLog2)};
+}
+}  // namespace
+
+void LabeledVolume::markChanged(const std::vector<openvdb::Coord>& leaf_origins) {
+  ++revision_;
+  openvdb::tree::ValueAccessor<RevisionTree> stamps(*leaf_revisions_);
+  for (const openvdb::Coord& origin : leaf_origins) stamps.setValueOn(leafKey(origin), static_cast<int64_t>(revision_));
+}
+
+void LabeledVolume::continueRevisionsFrom(uint64_t previous_revision) {
+  revision_ = previous_revision + 1;
+  replaced_at_ = revision_;
+  leaf_revisions_->clear();
+}
+
+LabeledVolume::LeafChanges LabeledVolume::changesSince(uint64_t revision) const {
+  LeafChanges changes;
+  changes.revision = revision_;
+  changes.all = revision < replaced_at_;
+  if (changes.all) {
+    // Every leaf that holds anything: geometry leaves and observed free regions.
+    openvdb::MaskTree keys;
+    openvdb::tree::ValueAccessor<openvdb::MaskTree> marks(keys);
+    for (auto leaf = geometry_->tree().cbeginLeaf(); leaf; ++leaf) marks.setValueOn(leafKey(leaf->origin()));
+    if (free_space_) {
+      // Observed regions are whole leaves, kept as tiles (or, after a merge, dense leaves).
+      for (auto it = free_space_->tree().cbeginValueOn(); it; ++it) {
+        openvdb::CoordBBox box;
+        it.getBoundingBox(box);
+        const openvdb::Coord lo = leafKey(box.min()), hi = leafKey(box.max());
+        for (int x = lo.x(); x <= hi.x(); ++x)
+          for (int y = lo.y(); y <= hi.y(); ++y)
+            for (int z = lo.z(); z <= hi.z(); ++z) marks.setValueOn({x, y, z});
+      }
+    }
+    changes.leaves.reserve(keys.activeVoxelCount());
+    for (auto it = keys.cbeginValueOn(); it; ++it) changes.leaves.push_back(keyOrigin(it.getCoord()));
+    return changes;
+  }
+  for (auto it = leaf_revisions_->cbeginValueOn(); it; ++it)
+    if (static_cast<uint64_t>(*it) > revision) changes.leaves.push_back(keyOrigin(it.getCoord()));
+  return changes;
 }
 
 InstanceGrid& LabeledVolume::mutableInstanceGrid() {

@@ -2,7 +2,7 @@
 // Internal: the per-leaf voxel update of projective integration, shared by the scalar kernel
 // (below, portable) and the AVX2 + F16C kernel (leaf_update_avx2.cpp). Both must give the same
 // bits for every voxel: same operations in the same order, no fused multiply-add, IEEE
-// round-to-nearest-even half conversions (tests/volume/test_integrate_kernels.cpp compares them).
+// round-to-nearest-even half conversions (tests/volume/integrate_kernels_test.cpp compares them).
 #include <algorithm>
 #include <array>
 #include <cmath>

@@ -348,7 +348,12 @@ Result<LoadedMap> readMap(const fs::path& path) {
   map.volume.mutableGeometryGrid().setTree(packed.value());
   if (color_grid) map.volume.mutableColorGrid()->setTree(color_grid->treePtr());
   if (sidecar_grid) map.volume.mutableLabelSidecarGrid()->setTree(sidecar_grid->treePtr());
+  // Observed free space (files written before it was kept have none: only the geometry grid's
+  // voxels count as observed then).
+  if (auto free_space = findGrid<FreeSpaceGrid>(*grids, "free_space")) map.volume.setFreeSpaceGrid(free_space);
   map.volume.setFramesIntegrated(static_cast<uint64_t>(frames.value()));
+  // A consumer of changes that starts at revision 0 rebuilds from every leaf of the loaded map.
+  map.volume.continueRevisionsFrom(0);
   for (auto it = meta->beginMeta(); it != meta->endMeta(); ++it)
     if (it->first.rfind(kExtraPrefix, 0) == 0 && it->second) map.extra[it->first.substr(6)] = it->second->str();
   return map;
@@ -384,6 +389,7 @@ Status saveMap(const LabeledVolume& volume, const LabelLegend& legend, const fs:
   openvdb::GridCPtrVec grids{layers.tsdf, layers.weight, layers.score, layers.label};
   if (volume.colorGrid()) grids.push_back(volume.colorGridPtr());
   if (volume.labelSidecarGrid()) grids.push_back(volume.labelSidecarGridPtr());
+  if (volume.freeSpaceGrid()) grids.push_back(volume.freeSpaceGridPtr());
   const uint64_t checksum =
       detail::voxelChecksum(volume.geometryGrid().tree(), volume.colorGrid() ? &volume.colorGrid()->tree() : nullptr);
   removeStaleTemporaries(path);

@@ -4,14 +4,9 @@
 #include <sstream>
 #include <type_traits>
 
+#include "semfuse/core/number_text.hpp"
+
 namespace semfuse::volume {
-namespace {
-std::string number(double value) {
-  std::ostringstream out;
-  out << value;
-  return out.str();
-}
-}  // namespace
 
 bool ParamRange::contains(double value) const {
   if (!std::isfinite(value)) return false;
@@ -21,14 +16,15 @@ bool ParamRange::contains(double value) const {
 }
 
 std::string ParamRange::text() const {
-  if (std::isinf(high)) return (low_open ? "> " : ">= ") + number(low);
-  return std::string("in ") + (low_open ? "(" : "[") + number(low) + ", " + number(high) + (high_open ? ")" : "]");
+  if (std::isinf(high)) return (low_open ? "> " : ">= ") + numberText(low);
+  return std::string("in ") + (low_open ? "(" : "[") + numberText(low) + ", " + numberText(high) +
+         (high_open ? ")" : "]");
 }
 
 Status checkParam(const ParamField& field, double value) {
   if (!field.range || field.range->contains(value)) return Status::Ok();
   return makeError(ErrorCode::kInvalidArgument, std::string(field.key) + " must be a finite number " +
-                                                    field.range->text() + ", got " + number(value));
+                                                    field.range->text() + ", got " + numberText(value));
 }
 
 std::string volumeParamsText(const VolumeParams& params) {

@@ -1,20 +1,12 @@
 #include "semfuse/volume/volume_params.hpp"
 
-#include <sstream>
 #include <string>
 #include <type_traits>
 
+#include "semfuse/core/number_text.hpp"
 #include "semfuse/volume/volume_param_table.hpp"
 
 namespace semfuse::volume {
-namespace {
-std::string number(double value) {
-  std::ostringstream out;
-  out << value;
-  return out.str();
-}
-Error invalid(std::string message) { return makeError(ErrorCode::kInvalidArgument, std::move(message)); }
-}  // namespace
 
 Status VolumeParams::validate() const {
   Status status;
@@ -27,16 +19,17 @@ Status VolumeParams::validate() const {
   if (!status) return status;
   // What one field's range cannot say.
   if (truncation < voxel_size)
-    return invalid("truncation must be at least one voxel (" + number(voxel_size) + " m), got " + number(truncation));
+    return invalidArgument("truncation must be at least one voxel (" + numberText(voxel_size) + " m), got " +
+                           numberText(truncation));
   // Half floats store the TSDF: beyond ~65504 they overflow; far earlier the band is absurd.
   if (truncation > 1000.0 * voxel_size)
-    return invalid("truncation " + number(truncation) + " m is more than 1000 voxels wide");
+    return invalidArgument("truncation " + numberText(truncation) + " m is more than 1000 voxels wide");
   if (label_likelihood <= 1.0f / static_cast<float>(label_classes))
-    return invalid("label_likelihood must be above chance (1/label_classes = " + number(1.0 / label_classes) +
-                   "), got " + number(label_likelihood));
+    return invalidArgument("label_likelihood must be above chance (1/label_classes = " +
+                           numberText(1.0 / label_classes) + "), got " + numberText(label_likelihood));
   if (max_depth <= min_depth)
-    return invalid("depth range must satisfy min_depth < max_depth, got [" + number(min_depth) + ", " +
-                   number(max_depth) + "]");
+    return invalidArgument("depth range must satisfy min_depth < max_depth, got [" + numberText(min_depth) + ", " +
+                           numberText(max_depth) + "]");
   return Status::Ok();
 }
 

@@ -44,27 +44,33 @@ bool VolumeSampler::gatherCorners(const openvdb::Coord& base, PackedVoxel corner
   return true;
 }
 
-bool VolumeSampler::tsdf(const Eigen::Vector3f& world, float& tsdf) {
+bool VolumeSampler::cellAt(const Eigen::Vector3f& world, openvdb::Coord& base, Eigen::Vector3f& fraction,
+                           float tsdf[8]) {
   const Eigen::Vector3f index = world * inv_voxel_size_;
-  const openvdb::Coord base = floorCoord(index);
+  base = floorCoord(index);
   PackedVoxel corners[8];
   if (!gatherCorners(base, corners)) return false;
-  const float fx = index.x() - base.x(), fy = index.y() - base.y(), fz = index.z() - base.z();
+  fraction =
+      index - Eigen::Vector3f(static_cast<float>(base.x()), static_cast<float>(base.y()), static_cast<float>(base.z()));
+  for (int i = 0; i < 8; ++i) tsdf[i] = unpackTsdf(corners[i]);
+  return true;
+}
+
+bool VolumeSampler::tsdf(const Eigen::Vector3f& world, float& tsdf) {
+  openvdb::Coord base;
+  Eigen::Vector3f f;
   float v[8];
-  for (int i = 0; i < 8; ++i) v[i] = unpackTsdf(corners[i]);
-  tsdf = trilinear(v, fx, fy, fz);
+  if (!cellAt(world, base, f, v)) return false;
+  tsdf = trilinear(v, f.x(), f.y(), f.z());
   return true;
 }
 
 bool VolumeSampler::tsdfAndGradient(const Eigen::Vector3f& world, float& tsdf, Eigen::Vector3f& gradient) {
-  const Eigen::Vector3f index = world * inv_voxel_size_;
-  const openvdb::Coord base = floorCoord(index);
-  PackedVoxel corners[8];
-  if (!gatherCorners(base, corners)) return false;
-  const float fx = index.x() - base.x(), fy = index.y() - base.y(), fz = index.z() - base.z();
+  openvdb::Coord base;
+  Eigen::Vector3f f;
   float v[8];
-  for (int i = 0; i < 8; ++i) v[i] = unpackTsdf(corners[i]);
-  tsdf = trilinearWithGradient(v, fx, fy, fz, gradient);
+  if (!cellAt(world, base, f, v)) return false;
+  tsdf = trilinearWithGradient(v, f.x(), f.y(), f.z(), gradient);
   gradient *= inv_voxel_size_;
   return true;
 }
@@ -89,20 +95,17 @@ void VolumeSampler::gatherLuma(const openvdb::Coord& base, float luma[8]) {
 
 bool VolumeSampler::tsdfAndIntensity(const Eigen::Vector3f& world, float& tsdf, Eigen::Vector3f& tsdf_gradient,
                                      float& intensity, Eigen::Vector3f& intensity_gradient, bool& has_intensity) {
-  const Eigen::Vector3f index = world * inv_voxel_size_;
-  const openvdb::Coord base = floorCoord(index);
-  PackedVoxel corners[8];
-  if (!gatherCorners(base, corners)) return false;
-  const float fx = index.x() - base.x(), fy = index.y() - base.y(), fz = index.z() - base.z();
+  openvdb::Coord base;
+  Eigen::Vector3f f;
   float v[8];
-  for (int i = 0; i < 8; ++i) v[i] = unpackTsdf(corners[i]);
-  tsdf = trilinearWithGradient(v, fx, fy, fz, tsdf_gradient);
+  if (!cellAt(world, base, f, v)) return false;
+  tsdf = trilinearWithGradient(v, f.x(), f.y(), f.z(), tsdf_gradient);
   tsdf_gradient *= inv_voxel_size_;
   has_intensity = color_.has_value();
   if (has_intensity) {
     float luma[8];
     gatherLuma(base, luma);
-    intensity = trilinearWithGradient(luma, fx, fy, fz, intensity_gradient);
+    intensity = trilinearWithGradient(luma, f.x(), f.y(), f.z(), intensity_gradient);
     intensity_gradient *= inv_voxel_size_;
   }
   return true;

@@ -103,5 +103,7 @@ class [[nodiscard]] Status {
 
 inline Error makeError(std::string message) { return Error{std::move(message)}; }
 inline Error makeError(ErrorCode code, std::string message) { return Error{std::move(message), code}; }
+// The most common coded error: input that is malformed or out of range.
+inline Error invalidArgument(std::string message) { return makeError(ErrorCode::kInvalidArgument, std::move(message)); }
 
 }  // namespace semfuse

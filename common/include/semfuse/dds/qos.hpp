@@ -51,6 +51,7 @@ Qos status();      // reliable, transient-local, keep-last 1: late joiners get t
 Qos legend();      // reliable, transient-local, keep-last 1
 Qos service();     // reliable, keep-last 10, volatile: rmw's default for services
 Qos sensorData();  // best-effort, keep-last 5, volatile: ROS 2 sensor-data profile
+Qos occupancy();   // reliable, transient-local, keep-last 1: as a ROS 2 map server's /map
 
 }  // namespace qos
 }  // namespace semfuse::dds

@@ -11,6 +11,7 @@ inline constexpr const char* kSegmentations = "rt/semfuse/segmentations";
 inline constexpr const char* kPoses = "rt/semfuse/poses";
 inline constexpr const char* kStatus = "rt/semfuse/status";
 inline constexpr const char* kLabels = "rt/semfuse/labels";
+inline constexpr const char* kOccupancy = "rt/semfuse/occupancy";  // nav_msgs/OccupancyGrid
 
 struct ServiceTopics {
   std::string request;
@@ -29,5 +30,10 @@ inline ServiceTopics region() { return service("region"); }
 inline ServiceTopics objects() { return service("objects"); }
 inline ServiceTopics mesh() { return service("mesh"); }
 inline ServiceTopics admin() { return service("admin"); }
+inline ServiceTopics distance() { return service("distance"); }
+inline ServiceTopics occupancySlice() { return service("occupancy_slice"); }
+inline ServiceTopics semanticDistance() { return service("semantic_distance"); }
+inline ServiceTopics semanticSlice() { return service("semantic_slice"); }
+inline ServiceTopics segmentCheck() { return service("segment_check"); }
 
 }  // namespace semfuse::dds::topics

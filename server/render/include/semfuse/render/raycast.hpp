@@ -64,7 +64,7 @@ Result<RaycastImages> raycast(PreparedRaycast&& prepared);
 // The data-parallel kernels that run before the rays (reading the voxels of the leaves in view
 // into crossing masks and float TSDF; the per-pixel depth bounds of each band of rows): AVX2 +
 // F16C where the CPU has them (the default there), or portable. They give bit-identical images
-// (tests/render/test_raycast.cpp); choosing one is for that test and for benchmarking.
+// (tests/render/raycast_test.cpp); choosing one is for that test and for benchmarking.
 // Process-wide; takes effect from the next raycast.
 enum class RaycastKernel { kScalar, kAvx2 };
 RaycastKernel raycastKernel();

@@ -26,7 +26,7 @@ enum class LostReason {
   kNoValidDepth,      // the image has no usable reading (all 0 / NaN / out of range)
   kTooFewInliers,     // little of the image agrees with the map (new territory, or wrong pose)
   kHighResidual,      // points agree poorly on average
-  kDegenerate,        // the geometry does not constrain all six degrees of freedom
+  kDegenerate,        // depth and colour leave some directions free; every other test passed
   kDiverged,          // the solution moved implausibly far from the starting guess
   kNotPlaced,         // a camera without a pose that no keyframe of the map has placed yet
   kDisagreesWithMap,  // passes the aligner's tests, but far fewer points agree with the map than before

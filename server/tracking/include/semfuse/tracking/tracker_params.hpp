@@ -55,8 +55,11 @@ struct TrackerParams {
   float color_robust_scale = 0.1f;  // Huber scale of the intensity residual (intensity 0..1)
 
   // A frame is LOST, and must not be integrated, below any of these.
-  double min_inlier_ratio = 0.3;   // inliers / valid points of the finest level
-  double max_rms_fraction = 0.35;  // RMS of D over inliers, x truncation
+  double min_inlier_ratio = 0.3;  // inliers / valid points of the finest level
+  // RMS of D over the inliers, x truncation. Inliers reach 0.5 x truncation (more at long range),
+  // so a correct pose of a noisy frame has an RMS near 0.35: freiburg1_xyz's fast stretches reach
+  // 0.36 at poses the motion capture confirms, and the agreement tests catch wrong poses first.
+  double max_rms_fraction = 0.45;
   std::size_t min_inliers = 200;
   // Reciprocal condition (min / max eigenvalue) of the 6x6 Hessian with rotations scaled by the
   // mean scene depth (so both blocks are in metres): a plane or a corridor leaves directions

@@ -52,7 +52,7 @@ Result<IntegrationStats> integrateLabels(LabeledVolume& volume, const cv::Mat& d
 
 // The per-voxel update exists twice: portable scalar code and an AVX2 + F16C version (8 voxels
 // of a leaf column per instruction) for x86-64 CPUs that have both, the default where available.
-// They give bit-identical volumes (tests/volume/test_integrate_kernels.cpp); choosing one is for
+// They give bit-identical volumes (tests/volume/integrate_kernels_test.cpp); choosing one is for
 // that test and for benchmarking. Process-wide; takes effect from the next integrate() call.
 enum class IntegrationKernel { kScalar, kAvx2 };
 IntegrationKernel integrationKernel();

@@ -9,6 +9,8 @@
 // Not thread-safe for writes: one writer at a time, readers under the caller's shared lock.
 #include <cstddef>
 #include <cstdint>
+#include <memory>
+#include <vector>
 
 #include <openvdb/openvdb.h>
 #include <Eigen/Core>
@@ -66,6 +68,7 @@ class LabeledVolume {
     return geometryMemoryBytes() + colorMemoryBytes() + labelSidecarMemoryBytes() + instanceMemoryBytes();
   }
 
+  // Clears the map: every leaf counts as changed from here on (changesSince says `all`).
   void clear();
   uint64_t framesIntegrated() const { return frames_integrated_; }
   void setFramesIntegrated(uint64_t frames) { frames_integrated_ = frames; }
@@ -94,6 +97,37 @@ class LabeledVolume {
   uint32_t nextInstanceId() const { return next_instance_id_; }
   void setNextInstanceId(uint32_t id) { next_instance_id_ = id; }
 
+  // Observed free space (free_space.hpp): the voxels a camera saw through, in front of its
+  // depth's truncation band (wholly free leaves as level-1 tiles). A voxel is observed when the
+  // geometry grid has it active or when it is free here; everything else is unknown. Null until
+  // the first frame's free space is observed; kept in map files as the mask grid "free_space".
+  const FreeSpaceGrid* freeSpaceGrid() const { return free_space_.get(); }
+  FreeSpaceGrid::ConstPtr freeSpaceGridPtr() const { return free_space_; }
+  FreeSpaceGrid& mutableFreeSpaceGrid();  // creates it when absent
+  void setFreeSpaceGrid(FreeSpaceGrid::Ptr grid);
+  bool observedFree(const openvdb::Coord& ijk) const { return free_space_ && free_space_->tree().isValueOn(ijk); }
+
+  // Changed-block tracking. Every write (integrate, integrateLabels, observeFreeSpace) bumps the
+  // volume's revision and stamps the leaves it changed with it; clear() and a map replacing
+  // another (continueRevisionsFrom) change everything. A consumer that derives something from
+  // the map per leaf (the distance field, a live mesh) remembers the revision it is up to date
+  // with and asks for what changed since: changesSince(R).leaves are the origins of the leaves
+  // written after R; when `all` is set the map was cleared or replaced after R and the consumer
+  // rebuilds from every leaf (then listed in `leaves`). Cost: one 64-bit stamp per leaf in a
+  // sparse tree (about 0.2 % of the map), and a walk over the stamps per call.
+  uint64_t revision() const { return revision_; }
+  struct LeafChanges {
+    uint64_t revision = 0;  // the volume's revision these changes bring the consumer up to
+    bool all = false;
+    std::vector<openvdb::Coord> leaves;  // leaf origins (voxel coordinates), in tree order
+  };
+  LeafChanges changesSince(uint64_t revision) const;
+  // Called by the writers: a new revision, stamped on the leaves with these origins.
+  void markChanged(const std::vector<openvdb::Coord>& leaf_origins);
+  // For a volume that replaces `previous` (a loaded map): its revision continues after previous's
+  // and every one of its leaves counts as changed.
+  void continueRevisionsFrom(uint64_t previous_revision);
+
  private:
   VolumeParams params_;
   GeometryGrid::Ptr geometry_;
@@ -101,7 +135,14 @@ class LabeledVolume {
   LabelSidecarGrid::Ptr label_sidecar_;
   InstanceGrid::Ptr instances_;
   uint32_t next_instance_id_ = 1;
+  FreeSpaceGrid::Ptr free_space_;
   uint64_t frames_integrated_ = 0;
+  // Leaf key (origin / 8) -> revision of the leaf's last change. A pointer: OpenVDB trees are not
+  // movable, the volume is.
+  using RevisionTree = openvdb::Int64Tree;
+  std::shared_ptr<RevisionTree> leaf_revisions_;
+  uint64_t revision_ = 0;
+  uint64_t replaced_at_ = 0;  // revision of the last clear / replacement
 };
 
 }  // namespace semfuse::volume

@@ -5,6 +5,8 @@
 //   label  Int32Grid
 //   color  Int32Grid 0x00RRGGBB (only when the volume has colour)
 //   label_candidates  Int64Grid, the runners-up of a top-5 label rule (only for those rules)
+//   free_space  MaskGrid of observed free space (free_space.hpp; when any was observed). Files
+//          without it load with no free space: only the TSDF's voxels count as observed then.
 // all with the same topology, plus file metadata: format version, every VolumeParams field as
 // "semfuse:<key>" (volume_param_table.hpp; the label rule's since version 2), the label legend,
 // frames integrated, checksums of the packed voxels and the sidecar, and the caller's extra

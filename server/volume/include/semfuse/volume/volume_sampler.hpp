@@ -52,6 +52,9 @@ class VolumeSampler {
   // Packed values of the 8 voxels around `base` (x fastest, then y, then z); false if any is
   // unobserved.
   bool gatherCorners(const openvdb::Coord& base, PackedVoxel corners[8]);
+  // The cell holding `world`: its base voxel, the point's fraction within it and the TSDF at its
+  // 8 corners (gatherCorners' order); false if any corner is unobserved.
+  bool cellAt(const Eigen::Vector3f& world, openvdb::Coord& base, Eigen::Vector3f& fraction, float tsdf[8]);
   // Luma (0..1) of the 8 colour voxels around `base`, same order; needs a colour grid.
   void gatherLuma(const openvdb::Coord& base, float luma[8]);
 

@@ -24,6 +24,7 @@ using PackedVoxel = openvdb::Int64;
 using GeometryGrid = openvdb::Int64Grid;  // PackedVoxel per voxel; active = observed
 using ColorGrid = openvdb::Int32Grid;     // PackedColor per voxel, same topology as geometry
 using PackedColor = openvdb::Int32;
+using FreeSpaceGrid = openvdb::MaskGrid;  // on = observed free space (free_space.hpp)
 
 inline constexpr PackedVoxel kUnobservedVoxel = 0;
 
@@ -48,7 +49,7 @@ namespace detail {
 // loop (several conversions per voxel, a million voxels per frame) both showed in the profile.
 // These are plain integer/float arithmetic that inlines (and vectorises), and give the same bits
 // as openvdb::math::half for every input: round to nearest even, subnormals, +-inf, NaN stays NaN
-// (tests/volume/test_voxel.cpp checks all 65536 halves and a sweep of floats).
+// (tests/volume/voxel_test.cpp checks all 65536 halves and a sweep of floats).
 inline uint32_t floatBits(float f) {
   uint32_t u;
   std::memcpy(&u, &f, sizeof u);
