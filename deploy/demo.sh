@@ -105,7 +105,7 @@ if [[ "$dataset" == synthetic ]]; then
     --out "$out" 2>>"$out/logs/report.log"
 else
   { echo "# semfuse demo report: 7-Scenes redkitchen"; echo; echo '```'; cat "$out/status.txt"; echo '```';
-    echo; echo "## Objects (connected surface regions per label)"; echo; echo '```'; cat "$out/objects.txt"; echo '```'; } \
+    echo; echo "## Objects (whole object instances, ids kept while the map grows)"; echo; echo '```'; cat "$out/objects.txt"; echo '```'; } \
     >"$out/report.md"
 fi
 

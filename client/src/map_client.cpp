@@ -109,13 +109,20 @@ CallResult<RegionSummary> MapClient::region(const Box& box, Timeout timeout) {
 }
 
 CallResult<std::vector<ObjectInstance>> MapClient::objects(LabelId label, uint32_t min_voxels, Timeout timeout) {
-  return call<wire::ObjectsCodec>(impl_->objects, {label, min_voxels}, timeout);
+  ObjectsRequest request;
+  request.label = label;
+  request.min_voxels = min_voxels;
+  return objects(request, timeout);
 }
 
-CallResult<MeshData> MapClient::mesh(const std::optional<Box>& box, Timeout timeout) {
+CallResult<std::vector<ObjectInstance>> MapClient::objects(const ObjectsRequest& request, Timeout timeout) {
+  return call<wire::ObjectsCodec>(impl_->objects, request, timeout);
+}
+
+CallResult<MeshData> MapClient::mesh(const std::optional<Box>& box, Timeout timeout, uint32_t object_id) {
   detail::MeshAssembly assembly;
   for (uint32_t chunk = 0; chunk < assembly.chunkCount(); ++chunk) {
-    auto reply = call<wire::MeshCodec>(impl_->mesh, {box, assembly.meshId(), chunk}, timeout);
+    auto reply = call<wire::MeshCodec>(impl_->mesh, {box, assembly.meshId(), chunk, object_id}, timeout);
     if (!reply) return {reply.failure(), makeError(reply.errorCode(), reply.error())};
     if (Status added = assembly.add(std::move(reply).value(), chunk); !added) return {Failure::kClient, added.error()};
   }

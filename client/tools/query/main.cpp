@@ -52,8 +52,13 @@ struct Options {
   std::vector<double> box_min;
   std::vector<double> box_max;
   // objects
-  int label = 0;
+  std::string label = "0";
   unsigned min_voxels = 0;
+  std::vector<double> near;
+  double radius = 0.5;
+  bool fragments = false;
+  // mesh
+  uint32_t object_id = 0;
   // status
   bool watch = false;
   double interval_s = 1.0;
@@ -177,7 +182,15 @@ class Query {
   }
 
   int objects() {
-    auto objects = map_.objects(static_cast<LabelId>(o_.label), o_.min_voxels, timeout_);
+    client::ObjectsRequest request;
+    auto label = labelOf(o_.label);
+    if (!label) return usage(label.error());
+    request.label = label.value();
+    request.min_voxels = o_.min_voxels;
+    if (!o_.near.empty()) request.near = Eigen::Vector3d(o_.near[0], o_.near[1], o_.near[2]);
+    request.radius = o_.radius;
+    request.include_fragments = o_.fragments;
+    auto objects = map_.objects(request, timeout_);
     if (!objects) return reportFailure(objects);
     std::cout << (o_.json ? tools::objectsJson(objects.value(), legend())
                           : tools::objectsTable(objects.value(), legend()));
@@ -191,7 +204,7 @@ class Query {
       if (!parsed) return usage(parsed.error());
       box = parsed.value();
     }
-    auto mesh = map_.mesh(box, timeout_);
+    auto mesh = map_.mesh(box, timeout_, o_.object_id);
     if (!mesh) return reportFailure(mesh);
     std::ofstream file(o_.out, std::ios::binary);
     file.write(reinterpret_cast<const char*>(mesh.value().ply.data()),
@@ -292,6 +305,18 @@ class Query {
 
   // The server's legend (published transient-local), else --legend, else an empty one (labels
   // then get generated colours and "label N" names).
+  // A label id, or a name of the server's legend.
+  Result<LabelId> labelOf(const std::string& text) {
+    if (!text.empty() && text.find_first_not_of("0123456789") == std::string::npos) {
+      const unsigned long id = std::stoul(text.size() > 6 ? std::string("70000") : text);
+      if (id > 65535) return makeError("label id " + text + " is out of range");
+      return static_cast<LabelId>(id);
+    }
+    for (const LabelInfo& info : legend().labels)
+      if (info.name == text) return info.id;
+    return makeError("no label named '" + text + "' in the legend '" + legend().name + "'");
+  }
+
   const LabelLegend& legend() {
     if (!legend_) {
       legend_ = map_.waitForLegend(std::chrono::milliseconds(std::min<long>(2000, timeout_.count())));
@@ -355,17 +380,20 @@ int main(int argc, char** argv) {
   region->add_option("--max", o.box_max, "X Y Z")->required()->expected(3);
   region->add_flag("--json", o.json, "print JSON");
 
-  auto* objects = app.add_subcommand("objects", "object instances (connected labeled surfaces)");
-  objects->add_option("--label", o.label, "only this label id (0 = all)")
-      ->check(CLI::Range(0, 65535))
+  auto* objects = app.add_subcommand("objects", "the map's object instances (ids kept while the map grows)");
+  objects->add_option("--label", o.label, "only this label: a name of the legend or an id (0 = all)")
       ->capture_default_str();
-  objects->add_option("--min-voxels", o.min_voxels, "smallest instance")->capture_default_str();
+  objects->add_option("--min-voxels", o.min_voxels, "smallest instance, surface voxels")->capture_default_str();
+  objects->add_option("--near", o.near, "only objects whose surface comes within --radius of X Y Z")->expected(3);
+  objects->add_option("--radius", o.radius, "metres, with --near")->check(CLI::PositiveNumber)->capture_default_str();
+  objects->add_flag("--fragments", o.fragments, "also the pieces too small to be objects");
   objects->add_flag("--json", o.json, "print JSON");
 
   auto* mesh = app.add_subcommand("mesh", "labeled mesh as a PLY file");
   mesh->add_option("--out", o.out, "PLY file to write")->required();
   mesh->add_option("--min", o.box_min, "box corner X Y Z (optional)")->expected(3);
   mesh->add_option("--max", o.box_max, "box corner X Y Z (optional)")->expected(3);
+  mesh->add_option("--object", o.object_id, "only this object's surface (an id from objects)");
 
   auto* status = app.add_subcommand("status", "server counters, map size, cameras, errors");
   status->add_flag("--json", o.json, "print JSON");

@@ -53,6 +53,8 @@ class Services {
   MapperAccess map_;
   QueryLimits limits_;
   HeldMeshes meshes_;
+  // The map's objects, shared by the objects and mesh services so that ids stay with objects.
+  std::unique_ptr<objects::ObjectTracker> objects_;
   AdminActions admin_;
   DistanceQueryContext distance_;
   // Last, so that their threads stop before what the handlers use goes.

@@ -41,6 +41,7 @@ using semfuse::kLabelsLayer;
 using semfuse::kNormalsLayer;
 using semfuse::LabelArea;
 using semfuse::ObjectInstance;
+using semfuse::ObjectsRequest;
 using semfuse::RaycastImages;
 using semfuse::RaycastLayer;
 using semfuse::RaycastLayers;
@@ -77,8 +78,11 @@ class MapClient {
   CallResult<RegionSummary> region(const Box& box, Timeout timeout);
   // label 0 = objects of every label.
   CallResult<std::vector<ObjectInstance>> objects(LabelId label, uint32_t min_voxels, Timeout timeout);
-  // Fetches every chunk of the mesh; `timeout` applies to each chunk's request.
-  CallResult<MeshData> mesh(const std::optional<Box>& box, Timeout timeout);
+  // Every filter of the objects service: label, size, near a point, fragments.
+  CallResult<std::vector<ObjectInstance>> objects(const ObjectsRequest& request, Timeout timeout);
+  // Fetches every chunk of the mesh; `timeout` applies to each chunk's request. object_id != 0:
+  // only that object's surface (an id of objects()).
+  CallResult<MeshData> mesh(const std::optional<Box>& box, Timeout timeout, uint32_t object_id = 0);
 
   CallResult<ServerStatus> stats(Timeout timeout);
   // path "" = the server's own map file.
