@@ -9,39 +9,11 @@
 
 #include <opencv2/core.hpp>
 
-#include "semfuse/dds/cdr.hpp"
-#include "semfuse/dds/sample.hpp"
+#include "round_trip.hpp"
 #include "semfuse/wire/distance_codecs.hpp"
 
 namespace semfuse::wire {
 namespace {
-
-template <class Wire>
-dds::Sample<Wire> overTheWire(const Wire& msg) {
-  auto received = dds::deserialize<Wire>(dds::serialize(msg));
-  if (!received.ok()) ADD_FAILURE() << received.error();
-  return received.ok() ? std::move(received).value() : dds::Sample<Wire>();
-}
-
-template <class Codec>
-typename Codec::Request requestRoundTrip(const typename Codec::Request& in) {
-  dds::Sample<typename Codec::WireRequest> sent;
-  Codec::encodeRequest(in, *sent);
-  auto out = Codec::decodeRequest(*overTheWire(*sent));
-  if (!out.ok()) ADD_FAILURE() << Codec::kName << " request: " << out.error();
-  return out.ok() ? std::move(out).value() : typename Codec::Request{};
-}
-
-template <class Codec>
-ServiceReply<typename Codec::Reply> replyRoundTrip(typename Codec::Reply value) {
-  ServiceReply<typename Codec::Reply> in;
-  in.value = std::move(value);
-  dds::Sample<typename Codec::WireReply> sent;
-  Codec::encodeReply(in, *sent);
-  auto out = Codec::decodeReply(*overTheWire(*sent));
-  if (!out.ok()) ADD_FAILURE() << Codec::kName << " reply: " << out.error();
-  return out.ok() ? std::move(out).value() : ServiceReply<typename Codec::Reply>{};
-}
 
 OccupancyGrid threeByTwo() {
   OccupancyGrid grid;
@@ -93,14 +65,14 @@ TEST(DistanceCodecs, RequestsRoundTrip) {
 }
 
 TEST(DistanceCodecs, RepliesRoundTrip) {
-  const auto distance = replyRoundTrip<DistanceCodec>({{true, false, -0.03f, {0, 0, 1}}, {false, true, 2.0f, {}}});
+  const auto distance = replyValueRoundTrip<DistanceCodec>({{true, false, -0.03f, {0, 0, 1}}, {false, true, 2.0f, {}}});
   ASSERT_EQ(distance.value.size(), 2u);
   EXPECT_TRUE(distance.value[0].known);
   EXPECT_FLOAT_EQ(distance.value[0].distance, -0.03f);
   EXPECT_EQ(distance.value[0].gradient, Eigen::Vector3f(0, 0, 1));
   EXPECT_TRUE(distance.value[1].beyond);
 
-  const auto grid = replyRoundTrip<OccupancySliceCodec>(threeByTwo()).value;
+  const auto grid = replyValueRoundTrip<OccupancySliceCodec>(threeByTwo()).value;
   EXPECT_EQ(grid.frame_id, "map");
   EXPECT_EQ(grid.stamp.sec, 1700000000);
   EXPECT_FLOAT_EQ(static_cast<float>(grid.resolution), 0.05f);
@@ -110,8 +82,8 @@ TEST(DistanceCodecs, RepliesRoundTrip) {
   EXPECT_EQ(grid.z, 0.375);
   EXPECT_EQ(grid.cells, threeByTwo().cells);
 
-  const auto semantic =
-      replyRoundTrip<SemanticDistanceCodec>({{true, 4, 0.5f, {0, 0, -1}, {0.2, 0.1, 0.75}}, {false, 0, 0, {}, {}}});
+  const auto semantic = replyValueRoundTrip<SemanticDistanceCodec>(
+      {{true, 4, 0.5f, {0, 0, -1}, {0.2, 0.1, 0.75}}, {false, 0, 0, {}, {}}});
   ASSERT_EQ(semantic.value.size(), 2u);
   EXPECT_EQ(semantic.value[0].label, 4);
   EXPECT_EQ(semantic.value[0].surface_point, Eigen::Vector3d(0.2, 0.1, 0.75));
@@ -120,14 +92,14 @@ TEST(DistanceCodecs, RepliesRoundTrip) {
   cv::Mat distances(2, 3, CV_32FC1);
   distances.at<float>(1, 2) = std::numeric_limits<float>::infinity();
   distances.at<float>(0, 0) = 0.25f;
-  const auto slice = replyRoundTrip<SemanticSliceCodec>({{-1, -2}, 0.1, 1.25, distances}).value;
+  const auto slice = replyValueRoundTrip<SemanticSliceCodec>({{-1, -2}, 0.1, 1.25, distances}).value;
   EXPECT_EQ(slice.min, Eigen::Vector2d(-1, -2));
   EXPECT_EQ(slice.resolution, 0.1);
   ASSERT_EQ(slice.distance.type(), CV_32FC1);
   EXPECT_EQ(slice.distance.at<float>(0, 0), 0.25f);
   EXPECT_TRUE(std::isinf(slice.distance.at<float>(1, 2)));
 
-  const auto segments = replyRoundTrip<SegmentCheckCodec>(
+  const auto segments = replyValueRoundTrip<SegmentCheckCodec>(
       {{SegmentStatus::kCollision, 0.4f, {1, 2, 3}, -0.1f}, {SegmentStatus::kUnknown, 0.0f, {}, 0.0f}});
   ASSERT_EQ(segments.value.size(), 2u);
   EXPECT_EQ(segments.value[0].status, SegmentStatus::kCollision);

@@ -11,6 +11,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "round_trip.hpp"
 #include "semfuse/dds/cdr.hpp"
 #include "semfuse/dds/sample.hpp"
 #include "semfuse/wire/frame_codec.hpp"
@@ -21,41 +22,6 @@
 
 namespace semfuse::wire {
 namespace {
-
-// The wire struct as a receiver gets it: serialized, then deserialized into a fresh sample.
-template <class Wire>
-dds::Sample<Wire> overTheWire(const Wire& msg) {
-  auto received = dds::deserialize<Wire>(dds::serialize(msg));
-  if (!received.ok()) ADD_FAILURE() << received.error();
-  return received.ok() ? std::move(received).value() : dds::Sample<Wire>();
-}
-
-template <class Codec>
-typename Codec::Request requestRoundTrip(const typename Codec::Request& in) {
-  dds::Sample<typename Codec::WireRequest> sent;
-  Codec::encodeRequest(in, *sent);
-  auto received = overTheWire(*sent);
-  auto out = Codec::decodeRequest(*received);
-  if (!out.ok()) ADD_FAILURE() << Codec::kName << " request: " << out.error();
-  return out.ok() ? std::move(out).value() : typename Codec::Request{};
-}
-
-template <class Codec>
-ServiceReply<typename Codec::Reply> replyRoundTrip(const ServiceReply<typename Codec::Reply>& in) {
-  dds::Sample<typename Codec::WireReply> sent;
-  Codec::encodeReply(in, *sent);
-  auto received = overTheWire(*sent);
-  auto out = Codec::decodeReply(*received);
-  if (!out.ok()) ADD_FAILURE() << Codec::kName << " reply: " << out.error();
-  return out.ok() ? std::move(out).value() : ServiceReply<typename Codec::Reply>{};
-}
-
-template <class T>
-ServiceReply<T> okReply(T value) {
-  ServiceReply<T> reply;
-  reply.value = std::move(value);
-  return reply;
-}
 
 Pose testPose() { return *testing::makeFrame().camera_to_world; }
 
