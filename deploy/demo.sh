@@ -105,7 +105,7 @@ if [[ "$dataset" == synthetic ]]; then
     --out "$out" 2>>"$out/logs/report.log"
 else
   { echo "# semfuse demo report: 7-Scenes redkitchen"; echo; echo '```'; cat "$out/status.txt"; echo '```';
-    echo; echo "## Objects (connected surface regions per label)"; echo; echo '```'; cat "$out/objects.txt"; echo '```'; } \
+    echo; echo "## Objects (whole object instances, ids kept while the map grows)"; echo; echo '```'; cat "$out/objects.txt"; echo '```'; } \
     >"$out/report.md"
 fi
 
@@ -121,5 +121,8 @@ if [[ $server_status -ne 0 ]]; then
 fi
 
 log "done. Outputs in $out:"
-( cd "$out" && ls -1 map.ply map.vdb report.md view0 view1 labels_side_by_side.png 2>/dev/null | sed 's/^/  /' )
+# What this run wrote (the side-by-side label picture comes from the synthetic scene only).
+for written in map.ply map.vdb report.md view0 view1 labels_side_by_side.png; do
+  if [[ -e "$out/$written" ]]; then echo "  $written"; fi
+done
 [[ -f "$out/report.md" ]] && sed -n '/^|/p' "$out/report.md"

@@ -22,6 +22,8 @@ packages=(
   libboost-dev  # semfuse-viewer: Boost.Beast (HTTP + WebSocket), header-only
   chromium  # tests/viewer: the viewer's page in headless Chromium
   libfastrtps-dev fastdds-tools fastddsgen  # tests/interop: an independent DDS peer (fastddsgen pulls in a JRE)
+  pybind11-dev python3-dev python3-numpy  # the Python package (client/python)
+  python3-pytest python3-opencv python3-mypy  # its tests, its OpenCV dnn example, its type-stub check
 )
 command -v npm >/dev/null 2>&1 || packages+=(npm)  # three.js for semfuse-viewer, tests/interop/foxglove; nodesource's nodejs ships its own npm
 

@@ -3,11 +3,22 @@
 # and every process started stopped when the script ends (also on Ctrl-C or failure).
 #   source "$root/deploy/processes.sh"; start_loopback_dds; require_programs a b; ...; pids+=($!)
 
-# Loopback only, and a domain of our own so that other semfuse runs on this host do not mix in.
+# Loopback only, and a domain of our own so that other semfuse runs on this host (a test suite
+# running beside, another demo) do not mix in: the first id whose /tmp/semfuse-domains/<id>.lock
+# this shell can flock, held until it exits (tests/support/test_domain.hpp does the same).
 # Sets CYCLONEDDS_URI, domain and the dds=(--domain-id N) arguments.
 start_loopback_dds() {
   export CYCLONEDDS_URI="file://$root/deploy/dds/localhost.xml"
-  domain=$(( 100 + $$ % 100 ))
+  local folder=/tmp/semfuse-domains k id
+  mkdir -p "$folder" && chmod 1777 "$folder" 2>/dev/null || true
+  domain=""
+  for (( k = 0; k < 230; k++ )); do
+    id=$(( 1 + ($$ + k) % 230 ))
+    exec {domain_lock}>>"$folder/$id.lock"
+    if flock -n "$domain_lock"; then domain=$id; break; fi
+    exec {domain_lock}>&-
+  done
+  [[ -n "$domain" ]] || { echo "$(basename "$0"): no free DDS domain under $folder" >&2; exit 1; }
   dds=(--domain-id "$domain")
 }
 

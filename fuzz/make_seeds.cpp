@@ -20,7 +20,10 @@
 #include "semfuse/core/legend.hpp"
 #include "semfuse/dds/cdr.hpp"
 #include "semfuse/dds/sample.hpp"
+#include "semfuse/render/mesh.hpp"
+#include "semfuse/render/ply_writer.hpp"
 #include "semfuse/volume/map_file.hpp"
+#include "semfuse/wire/distance_codecs.hpp"
 #include "semfuse/wire/frame_codec.hpp"
 #include "semfuse/wire/map_update_codecs.hpp"
 #include "semfuse/wire/message_codecs.hpp"
@@ -283,6 +286,20 @@ void serviceSeeds() {
   write("service_requests", "mesh", withSelector(4, requestCdr<wire::MeshCodec>({})));
   const Box box{{-0.5, -0.5, 0.5}, {0.5, 0.5, 1.2}};
   write("service_requests", "mesh-box", withSelector(4, requestCdr<wire::MeshCodec>({box, 0, 0})));
+  write("service_requests", "distance",
+        withSelector(5, requestCdr<wire::DistanceCodec>({{{0, 0, 0.9}, {-0.3, 0.1, 1.0}, {0, 0, 3.0}}})));
+  OccupancySliceRequest slice;
+  slice.z_min = -0.5;
+  slice.z_max = 0.5;
+  slice.inflation_radius = 0.1;
+  write("service_requests", "occupancy-slice", withSelector(6, requestCdr<wire::OccupancySliceCodec>(slice)));
+  write("service_requests", "semantic-distance",
+        withSelector(7, requestCdr<wire::SemanticDistanceCodec>({{5, 9}, {{0, 0, 0.5}, {0.2, 0, 0.8}}})));
+  write("service_requests", "semantic-slice",
+        withSelector(8, requestCdr<wire::SemanticSliceCodec>({{5}, 0.0, {-0.5, -0.5}, {0.5, 0.5}, 0.1})));
+  write("service_requests", "segment-check",
+        withSelector(9, requestCdr<wire::SegmentCheckCodec>(
+                            {{{{0, 0, 0.5}, {0, 0, 2.0}}, {{-0.4, 0, 0.8}, {0.4, 0, 0.8}}}, 0.05})));
 }
 
 void mapSeeds() {
@@ -293,6 +310,25 @@ void mapSeeds() {
   if (Status s = volume::saveMap(map, *builtinLegend("voc"), path, {{"note", "fuzz seed"}}); !s) {
     throw std::runtime_error(s.error());
   }
+}
+
+void meshPlySeeds() {
+  // The server's mesh of the tiny map, with and without normals, and two hand-made triangles.
+  const auto toBytes = [](const std::string& ply) { return Bytes(ply.begin(), ply.end()); };
+  auto mesh = render::extractMesh(fuzz::makeTinyMap(8));
+  if (!mesh) throw std::runtime_error(mesh.error());
+  render::PlyOptions options;
+  write("mesh_ply", "tiny-map", toBytes(render::plyBytes(mesh.value(), *builtinLegend("voc"), options).value()));
+  options.normals = false;
+  write("mesh_ply", "tiny-map-no-normals",
+        toBytes(render::plyBytes(mesh.value(), *builtinLegend("voc"), options).value()));
+  render::LabeledMesh two;
+  two.vertices = {{0.F, 0.F, 1.F}, {1.F, 0.F, 1.F}, {0.F, 1.F, 1.F}, {1.F, 1.F, 1.F}};
+  two.normals.assign(4, {0.F, 0.F, -1.F});
+  two.labels = {1, 1, 2, 2};
+  two.scores = {1.F, 2.F, 3.F, 4.F};
+  two.triangles = {{0, 1, 2}, {1, 3, 2}};
+  write("mesh_ply", "two-triangles", toBytes(render::plyBytes(two, *builtinLegend("voc")).value()));
 }
 
 void textSeeds() {
@@ -385,6 +421,7 @@ int main(int argc, char** argv) {
   serviceSeeds();
   mapSeeds();
   mapUpdateSeeds();
+  meshPlySeeds();
   textSeeds();
   std::printf("seeds written under %s\n", out.c_str());
   return 0;

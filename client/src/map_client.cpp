@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "mesh_assembly.hpp"
+#include "rpc_call.hpp"
 #include "semfuse/dds/qos.hpp"
 #include "semfuse/dds/reader.hpp"
 #include "semfuse/dds/rpc.hpp"
@@ -19,36 +20,7 @@
 #include "semfuse/wire/status_codec.hpp"
 
 namespace semfuse::client {
-namespace {
-
-template <class Codec>
-using Rpc = dds::RpcClient<typename Codec::WireRequest, typename Codec::WireReply>;
-
-// One request/reply round trip. RpcClient reports only transport problems as errors (no server
-// matched, no reply in time), which are timeouts from the caller's point of view; a reply with a
-// non-OK status is the server's error, a reply that does not decode the client's.
-template <class Codec>
-CallResult<typename Codec::Reply> call(Rpc<Codec>& rpc, const typename Codec::Request& request, Timeout timeout) {
-  dds::Sample<typename Codec::WireRequest> wire_request;
-  Codec::encodeRequest(request, *wire_request);
-  auto wire_reply = rpc.call(*wire_request, timeout);
-  if (!wire_reply) return {Failure::kTimeout, wire_reply.error()};
-  // The raycast's images take over the reply's pixel buffers instead of copying them.
-  auto reply = [&] {
-    if constexpr (std::is_same_v<Codec, wire::RaycastCodec>) return Codec::takeReply(*wire_reply.value());
-    else return Codec::decodeReply(*wire_reply.value());
-  }();
-  if (!reply) return {Failure::kClient, std::string(Codec::kName) + " reply: " + reply.error()};
-  if (!reply.value().ok()) {
-    // The server's message, with the error code of its reply status.
-    const auto status = static_cast<int32_t>(reply.value().code);
-    return {Failure::kServer, makeError(wire::errorCodeOfReplyStatus(status),
-                                        "server error " + std::to_string(status) + ": " + reply.value().message)};
-  }
-  return std::move(reply.value().value);
-}
-
-}  // namespace
+namespace {}  // namespace
 
 struct MapClient::Impl {
   explicit Impl(const dds::Participant& p)
@@ -119,7 +91,8 @@ struct MapClient::Impl {
   std::atomic<uint64_t> rejected_poses{0};
 };
 
-MapClient::MapClient(const dds::Participant& participant) : impl_(std::make_unique<Impl>(participant)) {}
+MapClient::MapClient(const dds::Participant& participant)
+    : impl_(std::make_unique<Impl>(participant)), distance_(makeDistanceRpcs(participant)) {}
 MapClient::~MapClient() = default;
 
 CallResult<RaycastImages> MapClient::raycast(const Pose& camera_to_world, const PinholeIntrinsics& intrinsics,
@@ -136,13 +109,20 @@ CallResult<RegionSummary> MapClient::region(const Box& box, Timeout timeout) {
 }
 
 CallResult<std::vector<ObjectInstance>> MapClient::objects(LabelId label, uint32_t min_voxels, Timeout timeout) {
-  return call<wire::ObjectsCodec>(impl_->objects, {label, min_voxels}, timeout);
+  ObjectsRequest request;
+  request.label = label;
+  request.min_voxels = min_voxels;
+  return objects(request, timeout);
 }
 
-CallResult<MeshData> MapClient::mesh(const std::optional<Box>& box, Timeout timeout) {
+CallResult<std::vector<ObjectInstance>> MapClient::objects(const ObjectsRequest& request, Timeout timeout) {
+  return call<wire::ObjectsCodec>(impl_->objects, request, timeout);
+}
+
+CallResult<MeshData> MapClient::mesh(const std::optional<Box>& box, Timeout timeout, uint32_t object_id) {
   detail::MeshAssembly assembly;
   for (uint32_t chunk = 0; chunk < assembly.chunkCount(); ++chunk) {
-    auto reply = call<wire::MeshCodec>(impl_->mesh, {box, assembly.meshId(), chunk}, timeout);
+    auto reply = call<wire::MeshCodec>(impl_->mesh, {box, assembly.meshId(), chunk, object_id}, timeout);
     if (!reply) return {reply.failure(), makeError(reply.errorCode(), reply.error())};
     if (Status added = assembly.add(std::move(reply).value(), chunk); !added) return {Failure::kClient, added.error()};
   }

@@ -3,8 +3,10 @@
 #include <atomic>
 #include <condition_variable>
 #include <deque>
+#include <map>
 #include <mutex>
 #include <optional>
+#include <string>
 #include <thread>
 
 #include <spdlog/spdlog.h>
@@ -52,10 +54,14 @@ struct Segmenter::Impl {
       while (auto sample = frames.take()) {
         std::lock_guard lock(mutex);
         ++stats.received;
-        if (!options.camera_id.empty() && options.camera_id != ((*sample)->camera_id ? (*sample)->camera_id : "")) {
+        const std::string camera = (*sample)->camera_id ? (*sample)->camera_id : "";
+        if (!options.camera_id.empty() && options.camera_id != camera) {
+          ++stats.not_selected;
           continue;
         }
-        if ((stats.received - 1) % static_cast<uint64_t>(options.every) != 0) {
+        // Every Nth frame of each camera: which of a camera's frames are segmented must not
+        // depend on how many frames other cameras sent in between.
+        if (frames_seen[camera]++ % static_cast<uint64_t>(options.every) != 0) {
           ++stats.not_selected;
           continue;
         }
@@ -164,6 +170,7 @@ struct Segmenter::Impl {
   std::condition_variable held_changed;
   bool worker_done = false;
   SegmenterStats stats;
+  std::map<std::string, uint64_t> frames_seen;  // per camera, for `every`; guarded by mutex
   std::atomic<bool> stopping{false};
   std::thread receiver;
   std::thread worker;

@@ -29,6 +29,7 @@ struct TrackBenchOptions {
   double voxel = 0.01;
   double truncation = 0.04;
   bool consistency = false;
+  bool color_weight_given = false;  // --color-weight on the command line: used for every sequence
   RunOptions run;
   std::string loss = "huber";
 };
@@ -63,6 +64,11 @@ int benchSequence(const std::string& spec, const TrackBenchOptions& options) {
   const TrackSequence& sequence = loaded.value();
   std::printf("\n%s: %zu frames, reference: %s (loaded in %.1f s)\n", sequence.name().c_str(), sequence.size(),
               sequence.referenceKind().c_str(), load_watch.elapsedMs() / 1000.0);
+  RunOptions run_options = options.run;
+  if (!sequence.colorRegistered() && !options.color_weight_given) {
+    run_options.tracker.alignment.color_weight = 0.0f;
+    std::printf("  colour not registered to depth: tracked on depth alone (the server's --track-color-weight 0)\n");
+  }
 
   std::vector<std::string> specs = options.cases.empty() ? defaultCases(sequence.size()) : options.cases;
   std::vector<TrackCase> cases;
@@ -84,7 +90,7 @@ int benchSequence(const std::string& spec, const TrackBenchOptions& options) {
     // The reference does not agree with the depth well enough to judge a pose by (its own
     // reconstruction's drift); poses are judged against an unbroken run instead.
     auto full = makeTrackCase("full", sequence.size());
-    auto run = runCase(sequence, full.value(), options.run);
+    auto run = runCase(sequence, full.value(), run_options);
     if (!run) {
       std::fprintf(stderr, "track: %s: %s\n", sequence.name().c_str(), run.error().c_str());
       return 1;
@@ -113,7 +119,7 @@ int benchSequence(const std::string& spec, const TrackBenchOptions& options) {
   for (const TrackCase& track_case : cases) {
     std::printf("  case %s\n", track_case.spec.c_str());
     std::fflush(stdout);
-    auto run = runCase(sequence, track_case, options.run, judge);
+    auto run = runCase(sequence, track_case, run_options, judge);
     if (!run) {
       std::fprintf(stderr, "track: %s %s: %s\n", sequence.name().c_str(), track_case.spec.c_str(), run.error().c_str());
       return 1;
@@ -125,11 +131,11 @@ int benchSequence(const std::string& spec, const TrackBenchOptions& options) {
   if (options.consistency) {
     if (!unbroken) {
       auto full = makeTrackCase("full", sequence.size());
-      auto run = runCase(sequence, full.value(), options.run);
+      auto run = runCase(sequence, full.value(), run_options);
       if (!run) return 1;
       unbroken = std::move(run).value();
     }
-    return reportConsistency(sequence, *unbroken, options.run);
+    return reportConsistency(sequence, *unbroken, run_options);
   }
   return 0;
 }
@@ -188,8 +194,12 @@ const bool registered = registerBench(
           ->check(CLI::IsMember({"huber", "cauchy"}))
           ->capture_default_str();
       command.add_option("--robust-scale", tp.robust_scale, "robust scale, x truncation")->capture_default_str();
-      command.add_option("--color-weight", tp.color_weight, "weight of the photometric term (0 = depth only)")
-          ->capture_default_str();
+      auto* color_weight =
+          command
+              .add_option("--color-weight", tp.color_weight,
+                          "weight of the photometric term (0 = depth only; default 0 for 7-Scenes, whose colour is "
+                          "not registered to its depth)")
+              ->capture_default_str();
       command.add_option("--color-scale", tp.color_robust_scale, "Huber scale of intensity residuals")
           ->capture_default_str();
       command.add_option("--blur", tp.pyramid.intensity_blur_px, "Gaussian blur of the intensity image, pixels")
@@ -218,7 +228,10 @@ const bool registered = registerBench(
                        "also: how far the depth pulls every 5th frame of the tracked and the reference trajectory "
                        "from a map of its 40 neighbours (minutes)");
       command.add_flag("--verbose", options->run.verbose, "one line per frame (lost and relocalised ones always)");
-      return [options] { return runTrackBench(*options); };
+      return [options, color_weight] {
+        options->color_weight_given = color_weight->count() > 0;
+        return runTrackBench(*options);
+      };
     });
 
 }  // namespace

@@ -1,6 +1,8 @@
 // semfuse-eval: runs the label fusion experiments (docs/eval) in process (same volume, label rules
-// and raycast as the server) and writes CSVs, plot tables, a gnuplot script and a markdown summary.
+// and raycast as the server) and writes CSVs, plot tables, a gnuplot script and a markdown summary;
+// experiment 7 scores the map's objects (object_experiment.hpp) and writes objects.csv / objects.md.
 // deploy/eval.sh runs it with the committed settings and draws the plots.
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -12,6 +14,7 @@
 #include <CLI/CLI.hpp>
 
 #include "experiments.hpp"
+#include "object_experiment.hpp"
 #include "semfuse/cli/command_line.hpp"
 #include "semfuse/cli/exit_codes.hpp"
 #include "semfuse/cli/progress.hpp"
@@ -38,7 +41,8 @@ struct Options {
   double noise_step = 0.1;
   double cnn_noise = 0.35;
   std::vector<std::string> rules{"evidence", "majority", "bayes"};
-  std::vector<int> experiments{1, 2, 3, 4, 5, 6};
+  std::vector<int> experiments{1, 2, 3, 4, 5, 6, 7};
+  int objects_query_every = 10;
   std::vector<double> diagnosis_noise{0.5, 0.7};
   std::string log_level;
 };
@@ -208,6 +212,25 @@ int run(const Options& o) {
     if (!s) spdlog::error("{}", s.error());
     return s.ok();
   };
+  if (wants(7)) {
+    eval::ObjectExperimentOptions object_options;
+    object_options.out = o.out;
+    object_options.volume = synthetic.params;
+    object_options.query_every = o.objects_query_every;
+    object_options.sources = {{"ground truth", 0.0, false},
+                              {"30% pixel noise", 0.3, false},
+                              {"panoptic ground truth", 0.0, true},
+                              {"panoptic, 30% pixel noise on the labels", 0.3, true}};
+    std::vector<const eval::EvalSequence*> rooms;
+    for (const auto& sequence : sequences)
+      if (!sequence->instances.empty()) rooms.push_back(sequence.get());
+    auto results = eval::runObjectExperiment(rooms, object_options, progress_fn);
+    if (!results) {
+      spdlog::error("objects: {}", results.error());
+      return cli::kExitFailure;
+    }
+  }
+  if (std::none_of(o.experiments.begin(), o.experiments.end(), [](int n) { return n <= 6; })) return cli::kExitOk;
   if (wants(1) && !check(experiments.noiseSweep(eval::LabelSourceKind::kPixel))) return cli::kExitFailure;
   if (wants(2) && !check(experiments.noiseSweep(eval::LabelSourceKind::kRegion))) return cli::kExitFailure;
   if (wants(3) && !check(experiments.perFrameVsVolumetric())) return cli::kExitFailure;
@@ -283,9 +306,13 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
   app.add_option("--rules", o.rules, "label rules: evidence, majority, bayes")->capture_default_str();
-  app.add_option("--experiments", o.experiments, "which experiments (1-6); 4 reads 1 and 2")
+  app.add_option("--objects-query-every", o.objects_query_every,
+                 "experiment 7: frames between two object queries of the growing map")
       ->capture_default_str()
-      ->check(CLI::Range(1, 6));
+      ->check(CLI::Range(1, 100000));
+  app.add_option("--experiments", o.experiments, "which experiments (1-7); 4 reads 1 and 2, 7 scores objects")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 7));
   app.add_option("--diagnosis-noise", o.diagnosis_noise, "pixel noise levels experiment 6 diagnoses")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));

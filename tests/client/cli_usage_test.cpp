@@ -87,6 +87,15 @@ TEST(CliUsage, CameraOnAFolderThatIsNoDatasetFailsWithCode1) {
   EXPECT_NE(r.err.find("/nonexistent/folder"), std::string::npos) << r.err;
 }
 
+TEST(CliUsage, QueryObjectsOfALabelNameTheLegendDoesNotHaveIsAUsageError) {
+  // No server on this domain: the label is looked up in the fallback legend, before any call.
+  const ProgramRun r = run(SEMFUSE_QUERY_BIN, "--domain-id 232 --timeout 0.3 --legend synthetic objects --label sofa");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("no label named 'sofa' in the legend 'synthetic'"), std::string::npos) << r.err;
+  expectUsageError(SEMFUSE_QUERY_BIN, "objects --near 1 2", "--near");
+  expectUsageError(SEMFUSE_QUERY_BIN, "objects --near 1 2 3 --radius -1", "--radius");
+}
+
 TEST(CliUsage, QueryWithoutServerTimesOutWithCode4) {
   // A domain nobody uses: no server can answer.
   const ProgramRun r = run(SEMFUSE_QUERY_BIN, "--domain-id 231 --timeout 0.3 objects");

@@ -216,5 +216,45 @@ TEST_F(SegmenterTest, EveryNthFrameIsSelected) {
   EXPECT_EQ(segmenter.stats().not_selected, 4u);
 }
 
+TEST_F(SegmenterTest, EveryCountsTheFollowedCamerasFramesOnly) {
+  std::mutex mutex;
+  std::vector<uint64_t> segmented;
+  Segmenter segmenter(participant_,
+                      [&](const Frame& f) -> Result<Segmentation> {
+                        std::lock_guard lock(mutex);
+                        segmented.push_back(f.seq);
+                        Segmentation s;
+                        s.labels = cv::Mat(f.depth.size(), CV_16UC1, cv::Scalar(1));
+                        return s;
+                      },
+                      {"cam-every-second", "cam", 2, std::chrono::milliseconds(0)});
+  segmenter.start();
+  CameraPublisher camera(participant_, {DepthEncoding::kRaw16, ColorEncoding::kNone, 90});
+  ASSERT_TRUE(camera.waitForReader(std::chrono::seconds(15)));
+  // Another camera sends one frame, then two, between the followed camera's frames: which of
+  // "cam"'s frames are segmented must not depend on it.
+  uint64_t sent = 0;
+  auto send = [&](const Frame& frame) {
+    ASSERT_TRUE(camera.publish(frame).ok());
+    ++sent;
+    ASSERT_TRUE(eventually([&] {
+      const auto s = segmenter.stats();
+      return s.received == sent && s.published + s.not_selected == s.received;
+    }));
+  };
+  for (uint64_t seq = 0; seq < 6; ++seq) {
+    send(flatFrame(seq, 1.0F));
+    for (uint64_t k = 0; k < 1 + seq % 2; ++k) {
+      Frame other = flatFrame(100 + 2 * seq + k, 1.0F);
+      other.camera_id = "other";
+      send(other);
+    }
+  }
+  segmenter.stop();
+  EXPECT_EQ(segmented, (std::vector<uint64_t>{0, 2, 4}));
+  // Nothing is dropped without a count: 3 of cam's frames by `every`, 9 of the other camera.
+  EXPECT_EQ(segmenter.stats().not_selected, 12u);
+}
+
 }  // namespace
 }  // namespace semfuse::client

@@ -10,6 +10,8 @@
 #include <dds/dds.h>
 #include <gtest/gtest.h>
 
+#include "test_domain.hpp"
+
 namespace semfuse::dds::testing {
 
 // Unicast discovery on "lo": ParticipantIndex auto gives each participant a well-known port,
@@ -24,8 +26,8 @@ inline constexpr const char* kLoopbackConfig =
 // Call before the first participant; child processes inherit it.
 inline void useLoopbackConfig() { ::setenv("CYCLONEDDS_URI", kLoopbackConfig, 1); }
 
-// One domain per test process (ctest runs each test in its own process).
-inline dds_domainid_t testDomain() { return static_cast<dds_domainid_t>(10 + ::getpid() % 200); }
+// One domain per test process (ctest runs each test in its own process), held by no other test.
+inline dds_domainid_t testDomain() { return static_cast<dds_domainid_t>(semfuse::testing::reserveTestDomain()); }
 
 // "<base>_<pid>_<test name>_<n>": unique even if two processes land on the same domain, and
 // across --gtest_repeat runs, whose endpoints of the previous round may still be known.

@@ -1,5 +1,5 @@
-// ROS 2 wire compatibility: the bytes semfuse puts on the wire for sensor_msgs/Image and
-// sensor_msgs/CameraInfo equal the CDR layout ROS 2 defines for those messages (XCDR1, little
+// ROS 2 wire compatibility: the bytes semfuse puts on the wire for sensor_msgs/Image,
+// sensor_msgs/CameraInfo and nav_msgs/OccupancyGrid equal the CDR layout ROS 2 defines for them (XCDR1, little
 // endian: header 00 01, alignment counted from the first byte after the 4-byte header,
 // strings as uint32 length incl. NUL + bytes + NUL, sequences as uint32 count + elements,
 // fixed arrays inline). The expected bytes are written out from the .msg definitions.
@@ -126,6 +126,51 @@ TEST(Ros2Wire, CameraInfoWithoutAnnouncedPaddingDecodes) {
   EXPECT_EQ(info.p[11], 51.0);
   EXPECT_EQ(info.roi.width, 14u);
   EXPECT_TRUE(info.roi.do_rectify);
+}
+
+// nav_msgs/OccupancyGrid as the occupancy topic and the occupancy_slice reply carry it: the
+// header, MapMetaData (time, float32 resolution, sizes, then the origin pose, whose doubles align
+// to 8), int8 cells. 106 bytes of body, padded to 108 (announced in the options).
+TEST(Ros2Wire, OccupancyGridBytesMatchTheRos2Layout) {
+  Sample<nav_msgs_msg_dds__OccupancyGrid_> grid;
+  grid->header.stamp.sec = 7;
+  grid->header.stamp.nanosec = 8;
+  setString(grid->header.frame_id, "map");
+  grid->info.map_load_time = {9, 10};
+  grid->info.resolution = 0.05f;
+  grid->info.width = 3;
+  grid->info.height = 2;
+  grid->info.origin.position = {-1.25, 2.5, 0.375};
+  grid->info.origin.orientation = {0.0, 0.0, 0.0, 1.0};
+  const int8_t cells[6] = {0, 100, -1, 99, 0, 0};
+  setSequence(grid->data, cells, 6);
+
+  Bytes expected{0x00, 0x01, 0x00, 0x02};
+  u32(expected, 7);        //   0 header.stamp.sec
+  u32(expected, 8);        //   4 header.stamp.nanosec
+  u32(expected, 4);        //   8 header.frame_id length incl. NUL
+  chars(expected, "map");  // 12 "map\0", ends at 16
+  u32(expected, 9);        //  16 info.map_load_time.sec
+  u32(expected, 10);       //  20 info.map_load_time.nanosec
+  const float resolution = 0.05f;
+  uint32_t resolution_bits;
+  std::memcpy(&resolution_bits, &resolution, 4);
+  u32(expected, resolution_bits);  // 24 info.resolution (float32)
+  u32(expected, 3);                // 28 info.width
+  u32(expected, 2);                // 32 info.height
+  zeros(expected, 4);              // 36 padding: the pose's doubles align to 8
+  for (double v : {-1.25, 2.5, 0.375, 0.0, 0.0, 0.0, 1.0}) f64(expected, v);  // 40 .. 96 origin
+  u32(expected, 6);                                                           // 96 data: 6 cells
+  for (int8_t c : cells) expected.push_back(static_cast<uint8_t>(c));         // 100 .. 106
+  zeros(expected, 2);                                                         // padding to 108
+  EXPECT_EQ(serialize(*grid), expected);
+
+  auto decoded = deserialize<nav_msgs_msg_dds__OccupancyGrid_>(expected);
+  ASSERT_TRUE(decoded.ok()) << decoded.error();
+  EXPECT_STREQ(decoded.value()->header.frame_id, "map");
+  EXPECT_EQ(decoded.value()->info.height, 2u);
+  EXPECT_EQ(decoded.value()->info.origin.position.z, 0.375);
+  EXPECT_EQ(decoded.value()->data._buffer[2], -1);
 }
 
 }  // namespace

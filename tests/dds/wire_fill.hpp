@@ -252,6 +252,11 @@ inline void fill(semfuse_msg_dds__ObjectInstance_& m, Filler& f) {
   fill(m.centroid, f);
   m.voxel_count = f.u64();
   m.mean_confidence = f.f32();
+  m.area_m2 = f.f64();
+  fill(m.box_center, f);
+  fill(m.box_half_extents, f);
+  fill(m.box_rotation, f);
+  m.fragment = true;
 }
 template <class M>
 void fillReplyHeader(M& m, Filler& f) {
@@ -304,6 +309,10 @@ inline void fill(semfuse_srv_dds__Objects_Request_& m, Filler& f) {
   m.sequence_number_ = f.i64();
   m.label = f.u16();
   m.min_voxels = f.u32();
+  m.use_near = true;
+  fill(m.near, f);
+  m.radius = f.f64();
+  m.include_fragments = true;
 }
 inline void fill(semfuse_srv_dds__Objects_Response_& m, Filler& f) {
   fillReplyHeader(m, f);
@@ -317,6 +326,7 @@ inline void fill(semfuse_srv_dds__Mesh_Request_& m, Filler& f) {
   fill(m.box_max, f);
   m.mesh_id = f.u64();
   m.chunk_index = f.u32();
+  m.object_id = f.u32();
 }
 inline void fill(semfuse_srv_dds__Mesh_Response_& m, Filler& f) {
   fillReplyHeader(m, f);

@@ -12,8 +12,21 @@ for exe in "$server_exe" "$camera_exe" "$segmenter_exe" "$query_exe"; do
 done
 rm -rf "$work"
 mkdir -p "$work/logs"
-# A domain of our own so that parallel tests and other runs on this host do not mix in.
-domain=$(( 150 + $$ % 80 ))
+# A domain no other semfuse test on this host holds (tests/support/test_domain.hpp): an flock on
+# /tmp/semfuse-domains/<id>.lock, on a descriptor this shell keeps until it exits.
+reserve_test_domain() {
+  local folder=/tmp/semfuse-domains k id
+  mkdir -p "$folder" && chmod 1777 "$folder" 2>/dev/null || true
+  for (( k = 0; k < 230; k++ )); do
+    id=$(( 1 + ($$ + k) % 230 ))
+    exec {domain_lock}>>"$folder/$id.lock"
+    if flock -n "$domain_lock"; then domain=$id; return 0; fi
+    exec {domain_lock}>&-
+  done
+  echo "$test_name: no free DDS test domain under $folder" >&2
+  exit 1
+}
+reserve_test_domain
 
 say() { printf '%s: %s\n' "$test_name" "$*"; }
 fail() {

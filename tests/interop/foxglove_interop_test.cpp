@@ -13,8 +13,10 @@
 
 #include "../server/server_harness.hpp"
 #include "interop_support.hpp"
+#include "nav_msgs.h"
 #include "semfuse/dds/raw.hpp"
 #include "semfuse/dds/sample.hpp"
+#include "semfuse/wire/distance_codecs.hpp"
 #include "semfuse/wire/frame_codec.hpp"
 #include "semfuse/wire/message_codecs.hpp"
 #include "semfuse/wire/ros_codec.hpp"
@@ -200,6 +202,14 @@ const char* kStatus =
     "last_errors[0].message=\"depth: unknown encoding 'rgb16'\"\nmap_file=\"/tmp/map.vdb\"\nlast_save_ok=true\n"
     "last_save_age_s=1.5\n";
 
+// What rt/semfuse/occupancy carries.
+const char* kOccupancyGrid =
+    "header.stamp.sec=1700000000\nheader.stamp.nanosec=5\nheader.frame_id=\"map\"\ninfo.map_load_time.sec=1700000000\n"
+    "info.map_load_time.nanosec=5\ninfo.resolution=0.05000000074505806\ninfo.width=3\ninfo.height=2\n"
+    "info.origin.position.x=-1.25\ninfo.origin.position.y=2.5\ninfo.origin.position.z=0.375\n"
+    "info.origin.orientation.x=0\ninfo.origin.orientation.y=0\ninfo.origin.orientation.z=0\n"
+    "info.origin.orientation.w=1\ndata=[0,100,-1,99,0,0]\n";
+
 std::string str(const char* s) { return s ? s : ""; }
 
 }  // namespace
@@ -247,6 +257,21 @@ TEST_F(FoxgloveInterop, StandardRosMessagesAgreeFieldForField) {
     EXPECT_EQ(str(m.transforms._buffer[1].child_frame_id), "base_link");
     EXPECT_EQ(m.transforms._buffer[1].transform.translation.z, 9.0);
   });
+}
+
+TEST_F(FoxgloveInterop, OccupancyGridAgreesFieldForField) {
+  roundTrip<nav_msgs_msg_dds__OccupancyGrid_>(
+      "nav_msgs/OccupancyGrid", kOccupancyGrid, [](const nav_msgs_msg_dds__OccupancyGrid_& m) {
+        EXPECT_EQ(str(m.header.frame_id), "map");
+        EXPECT_EQ(m.info.width, 3u);
+        EXPECT_EQ(m.info.height, 2u);
+        EXPECT_FLOAT_EQ(m.info.resolution, 0.05f);
+        EXPECT_EQ(m.info.origin.position.x, -1.25);
+        auto grid = wire::decodeOccupancyGrid(m);
+        ASSERT_TRUE(grid.ok()) << grid.error();
+        EXPECT_EQ(grid.value().cells, (std::vector<int8_t>{0, 100, -1, 99, 0, 0}));
+        EXPECT_EQ(grid.value().z, 0.375);
+      });
 }
 
 TEST_F(FoxgloveInterop, SemfuseMessagesFromTheMsgFilesAgreeFieldForField) {

@@ -13,11 +13,12 @@
 #include <opencv2/core.hpp>
 
 #include "semfuse/synthetic/synthetic_sequence.hpp"
+#include "test_domain.hpp"
 
 namespace semfuse::testing {
 
-// Domains 1..29: the server tests use 30..219, so parallel ctest runs do not meet.
-inline int interopDomain() { return 1 + ::getpid() % 29; }
+// A domain of this test process's own (test_domain.hpp).
+inline int interopDomain() { return reserveTestDomain(); }
 
 // Runs `command` through the shell with stdout and stderr into files; returns the exit code.
 inline int runCommand(const std::string& command, const std::filesystem::path& out, const std::filesystem::path& err) {

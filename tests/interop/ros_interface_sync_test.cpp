@@ -56,7 +56,7 @@ std::string describe(const std::vector<Field>& fields) {
 TEST(RosInterfaceSync, EveryIdlStructHasAnIdenticalRosInterface) {
   const TypeSet idl = idlTypes();
   const TypeSet ros = rosTypes();
-  ASSERT_GE(idl.structs.size(), 29u);  // 15 messages + 7 services x 2
+  ASSERT_GE(idl.structs.size(), 43u);  // 19 messages + 12 services x 2
   for (const auto& [name, fields] : idl.structs) {
     const auto it = ros.structs.find(name);
     ASSERT_NE(it, ros.structs.end()) << name << " has no .msg/.srv in " << kPackage;
@@ -86,7 +86,7 @@ TEST(RosInterfaceSync, ConstantsAgree) {
     ASSERT_TRUE(ros.constant_modules.count(module)) << name << " lacks the status constants";
     EXPECT_EQ(ros.constant_modules.at(module), status) << module;
   }
-  EXPECT_EQ(responses, 7);
+  EXPECT_EQ(responses, 12);
   for (const auto& [module, constants] : ros.constant_modules) {
     if (module.find("_Response_Constants") != std::string::npos) continue;
     EXPECT_TRUE(idl.constant_modules.count(module)) << module << " exists only in the ROS package";
@@ -103,7 +103,7 @@ TEST(RosInterfaceSync, ColconCMakeListsNamesEveryInterfaceFile) {
       EXPECT_NE(cmake.find(rel), std::string::npos) << rel << " not in rosidl_generate_interfaces";
     }
   }
-  EXPECT_EQ(files, 22);
+  EXPECT_EQ(files, 31);
   // The package must be called semfuse: rmw_cyclonedds derives the DDS type names from it.
   EXPECT_NE(readText(kPackage / "package.xml").find("<name>semfuse</name>"), std::string::npos);
   EXPECT_TRUE(std::regex_search(cmake, std::regex(R"(project\(semfuse\))")));

@@ -98,6 +98,7 @@ TEST_F(ServerConfigTest, EveryFlagAndConfigKeyKeepsItsName) {
                            "--map",
                            "--autosave-period",
                            "--refine-poses",
+                           "--track-color-weight",
                            "--status-period",
                            "--stale-after"})
     EXPECT_NE(app->get_option_no_throw(flag), nullptr) << flag;
@@ -176,4 +177,17 @@ TEST_F(ServerConfigTest, AValueOutsideItsRangeIsRefusedWithTheTablesMessage) {
   EXPECT_EQ(params.errorCode(), ErrorCode::kInvalidArgument);
   EXPECT_EQ(params.error(),
             "--label-rule bayes keeps label ids up to 1023, but legend 'wide' has id 2000; use --label-rule evidence");
+}
+
+TEST_F(ServerConfigTest, TrackingColourWeightComesFromTheFileAndIsRangeChecked) {
+  // A sensor whose colour is not registered to its depth tracks on depth alone.
+  ServerConfig config;
+  const fs::path yaml = write("tracking.yaml", "track-color-weight: 0\n");
+  parsedApp(config, "--config " + yaml.string());
+  EXPECT_EQ(config.track_color_weight, 0.0f);
+  ServerConfig defaults;
+  parsedApp(defaults, "");
+  EXPECT_EQ(defaults.track_color_weight, tracking::TrackerParams{}.color_weight);
+  ServerConfig negative;
+  EXPECT_THROW(parsedApp(negative, "--track-color-weight -1"), CLI::ParseError);
 }

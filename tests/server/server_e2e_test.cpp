@@ -15,6 +15,7 @@
 #include <opencv2/core.hpp>
 
 #include "semfuse/client/map_client.hpp"
+#include "semfuse/synthetic/room.hpp"
 #include "semfuse/synthetic/synthetic_sequence.hpp"
 #include "semfuse/volume/map_file.hpp"
 #include "semfuse/wire/frame_codec.hpp"
@@ -147,6 +148,41 @@ TEST_F(ServerEndToEnd, FusesLateSegmentationsAnswersQueriesAndResumesAfterRestar
     }
   ASSERT_GT(valid, labels.rows * labels.cols / 2);
   EXPECT_GE(static_cast<double>(agree) / valid, 0.95) << agree << " of " << valid;
+
+  // Objects over DDS: the table is one object (its top and legs), ids are kept between two calls,
+  // the near filter finds it, and its mesh is its own: smaller than the map's, inside its box.
+  client::MapClient objects_client(h.participant());
+  ObjectsRequest tables;
+  tables.label = synthetic::labels::kTable;
+  auto table = objects_client.objects(tables, 30s);
+  ASSERT_TRUE(table.ok()) << table.error();
+  ASSERT_EQ(table.value().size(), 1u);
+  const ObjectInstance& t = table.value()[0];
+  EXPECT_GT(t.area_m2, 0.5);  // the top alone is 1.2 x 0.8 m
+  EXPECT_NEAR(t.bbox_max.z(), 0.75, 0.05);
+  ObjectsRequest everything;
+  auto all_first = objects_client.objects(everything, 30s);
+  auto all_second = objects_client.objects(everything, 30s);
+  ASSERT_TRUE(all_first.ok() && all_second.ok());
+  ASSERT_EQ(all_first.value().size(), all_second.value().size());
+  for (std::size_t i = 0; i < all_first.value().size(); ++i)
+    EXPECT_EQ(all_first.value()[i].id, all_second.value()[i].id);
+  ObjectsRequest near = everything;
+  near.near = t.centroid + Eigen::Vector3d(0.0, 0.0, 0.1);
+  near.radius = 0.4;
+  auto close = objects_client.objects(near, 30s);
+  ASSERT_TRUE(close.ok()) << close.error();
+  EXPECT_TRUE(
+      std::any_of(close.value().begin(), close.value().end(), [&](const ObjectInstance& o) { return o.id == t.id; }));
+  EXPECT_LT(close.value().size(), all_first.value().size());
+  auto table_mesh = objects_client.mesh(std::nullopt, 30s, t.id);
+  auto whole_mesh = objects_client.mesh(std::nullopt, 30s);
+  ASSERT_TRUE(table_mesh.ok() && whole_mesh.ok()) << table_mesh.error() << whole_mesh.error();
+  EXPECT_GT(table_mesh.value().face_count, 1000u);
+  EXPECT_LT(table_mesh.value().face_count, whole_mesh.value().face_count / 4);
+  auto no_object = objects_client.mesh(std::nullopt, 30s, 999999);
+  ASSERT_FALSE(no_object.ok());
+  EXPECT_EQ(no_object.errorCode(), ErrorCode::kNotFound) << no_object.error();
 
   // Save through the admin service; every surface voxel of the saved map against the scene.
   semfuse_srv_dds__Admin_Request_ save{};

@@ -24,10 +24,12 @@
 #include "semfuse/dds/topics.hpp"
 #include "semfuse/dds/writer.hpp"
 #include "srv.h"
+#include "test_domain.hpp"
 
 namespace semfuse::testing {
 
-inline dds_domainid_t serverTestDomain() { return static_cast<dds_domainid_t>(30 + ::getpid() % 190); }
+// A domain of this test process's own (test_domain.hpp).
+inline dds_domainid_t serverTestDomain() { return static_cast<dds_domainid_t>(reserveTestDomain()); }
 
 inline std::string loopbackProfile() { return std::string(SEMFUSE_SOURCE_DIR) + "/deploy/dds/localhost.xml"; }
 

@@ -108,20 +108,96 @@ TEST(ServiceHandlers, RegionCountsWhatIsInTheBox) {
   EXPECT_EQ(inverted.message, "box max must be >= min on every axis");
 }
 
+ObjectsRequest objectsOf(LabelId label) {
+  ObjectsRequest request;
+  request.label = label;
+  request.min_voxels = 1;
+  return request;
+}
+
 TEST(ServiceHandlers, ObjectsOfALabelInTheLegend) {
-  auto all = handleObjects({kUnlabeled, 1}, twoWalls());
+  auto all = handleObjects(objectsOf(kUnlabeled), twoWalls());
   ASSERT_TRUE(all.ok()) << all.message;
   ASSERT_EQ(all.value.size(), 2u);
-  auto wall = handleObjects({9, 1}, twoWalls());
+  auto wall = handleObjects(objectsOf(9), twoWalls());
   ASSERT_TRUE(wall.ok()) << wall.message;
   ASSERT_EQ(wall.value.size(), 1u);
   EXPECT_EQ(wall.value[0].label, 9);
   EXPECT_NEAR(wall.value[0].centroid.z(), 1.5, 0.05);
   EXPECT_GT(wall.value[0].mean_confidence, 0.0f);
 
-  auto unknown = handleObjects({99, 1}, twoWalls());
+  auto unknown = handleObjects(objectsOf(99), twoWalls());
   EXPECT_EQ(unknown.code, ReplyCode::kInvalidArgument);
   EXPECT_EQ(unknown.message, "label 99 is not in the legend 'voc'");
+}
+
+TEST(ServiceHandlers, ObjectsKeepTheirIdsAndCarryTheirFigures) {
+  auto tracker = makeObjectTracker(twoWalls().legend(), twoWalls().snapshot()->voxelSize());
+  auto first = handleObjects(objectsOf(kUnlabeled), twoWalls(), *tracker);
+  auto second = handleObjects(objectsOf(kUnlabeled), twoWalls(), *tracker);
+  ASSERT_TRUE(first.ok() && second.ok()) << first.message << second.message;
+  ASSERT_EQ(first.value.size(), 2u);
+  ASSERT_EQ(second.value.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(first.value[i].id, second.value[i].id);
+    EXPECT_EQ(first.value[i].label, second.value[i].label);
+    const ObjectInstance& o = first.value[i];
+    EXPECT_GT(o.area_m2, 0.0);
+    // A wall: its oriented box is thin along one axis, and holds the centroid.
+    EXPECT_LT(o.box_half_extents.minCoeff(), 0.05);
+    EXPECT_TRUE((o.centroid.array() >= o.bbox_min.array()).all() && (o.centroid.array() <= o.bbox_max.array()).all());
+    EXPECT_FALSE(o.fragment);
+  }
+  EXPECT_NE(first.value[0].id, first.value[1].id);
+}
+
+TEST(ServiceHandlers, ObjectsNearAPointAndTheirRefusals) {
+  auto tracker = makeObjectTracker(twoWalls().legend(), twoWalls().snapshot()->voxelSize());
+  auto all = handleObjects(objectsOf(kUnlabeled), twoWalls(), *tracker);
+  ASSERT_TRUE(all.ok()) << all.message;
+  ASSERT_EQ(all.value.size(), 2u);
+  ObjectsRequest near = objectsOf(kUnlabeled);
+  near.near = all.value[1].centroid;
+  near.radius = 0.1;
+  auto one = handleObjects(near, twoWalls(), *tracker);
+  ASSERT_TRUE(one.ok()) << one.message;
+  ASSERT_EQ(one.value.size(), 1u);
+  EXPECT_EQ(one.value[0].id, all.value[1].id);
+
+  near.near = Eigen::Vector3d(50.0, 50.0, 50.0);
+  auto none = handleObjects(near, twoWalls(), *tracker);
+  ASSERT_TRUE(none.ok()) << none.message;
+  EXPECT_TRUE(none.value.empty());
+
+  for (double radius : {0.0, -1.0, std::nan(""), 1000.0}) {
+    near.radius = radius;
+    auto bad = handleObjects(near, twoWalls(), *tracker);
+    EXPECT_EQ(bad.code, ReplyCode::kInvalidArgument) << radius;
+  }
+}
+
+TEST(ServiceHandlers, MeshOfOneObject) {
+  auto tracker = makeObjectTracker(twoWalls().legend(), twoWalls().snapshot()->voxelSize());
+  auto all = handleObjects(objectsOf(kUnlabeled), twoWalls(), *tracker);
+  ASSERT_TRUE(all.ok()) << all.message;
+  ASSERT_EQ(all.value.size(), 2u);
+  HeldMeshes meshes;
+  QueryLimits limits = smallLimits();
+  limits.mesh_chunk_bytes = 1 << 24;
+  auto whole = handleMesh({}, twoWalls(), meshes, limits, tracker.get());
+  ASSERT_TRUE(whole.ok()) << whole.message;
+  MeshRequest request;
+  request.object_id = all.value[0].id;
+  auto object = handleMesh(request, twoWalls(), meshes, limits, tracker.get());
+  ASSERT_TRUE(object.ok()) << object.message;
+  EXPECT_GT(object.value.face_count, 0u);
+  EXPECT_LT(object.value.face_count, whole.value.face_count);
+
+  request.object_id = 9999;
+  auto missing = handleMesh(request, twoWalls(), meshes, limits, tracker.get());
+  EXPECT_EQ(missing.code, ReplyCode::kNotFound);
+  request.object_id = all.value[0].id;
+  EXPECT_EQ(handleMesh(request, twoWalls(), meshes, limits).code, ReplyCode::kInvalidArgument);
 }
 
 TEST(ServiceHandlers, MeshIsFetchedInChunksOfTheHeldPly) {

@@ -11,6 +11,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "round_trip.hpp"
 #include "semfuse/dds/cdr.hpp"
 #include "semfuse/dds/sample.hpp"
 #include "semfuse/wire/frame_codec.hpp"
@@ -21,41 +22,6 @@
 
 namespace semfuse::wire {
 namespace {
-
-// The wire struct as a receiver gets it: serialized, then deserialized into a fresh sample.
-template <class Wire>
-dds::Sample<Wire> overTheWire(const Wire& msg) {
-  auto received = dds::deserialize<Wire>(dds::serialize(msg));
-  if (!received.ok()) ADD_FAILURE() << received.error();
-  return received.ok() ? std::move(received).value() : dds::Sample<Wire>();
-}
-
-template <class Codec>
-typename Codec::Request requestRoundTrip(const typename Codec::Request& in) {
-  dds::Sample<typename Codec::WireRequest> sent;
-  Codec::encodeRequest(in, *sent);
-  auto received = overTheWire(*sent);
-  auto out = Codec::decodeRequest(*received);
-  if (!out.ok()) ADD_FAILURE() << Codec::kName << " request: " << out.error();
-  return out.ok() ? std::move(out).value() : typename Codec::Request{};
-}
-
-template <class Codec>
-ServiceReply<typename Codec::Reply> replyRoundTrip(const ServiceReply<typename Codec::Reply>& in) {
-  dds::Sample<typename Codec::WireReply> sent;
-  Codec::encodeReply(in, *sent);
-  auto received = overTheWire(*sent);
-  auto out = Codec::decodeReply(*received);
-  if (!out.ok()) ADD_FAILURE() << Codec::kName << " reply: " << out.error();
-  return out.ok() ? std::move(out).value() : ServiceReply<typename Codec::Reply>{};
-}
-
-template <class T>
-ServiceReply<T> okReply(T value) {
-  ServiceReply<T> reply;
-  reply.value = std::move(value);
-  return reply;
-}
 
 Pose testPose() { return *testing::makeFrame().camera_to_world; }
 
@@ -292,19 +258,35 @@ TEST(WireRoundTrip, ServiceRequests) {
   EXPECT_EQ(region.min, box.min);
   EXPECT_EQ(region.max, box.max);
 
-  const ObjectsRequest objects = requestRoundTrip<ObjectsCodec>({5, 250});
+  ObjectsRequest asked;
+  asked.label = 5;
+  asked.min_voxels = 250;
+  const ObjectsRequest objects = requestRoundTrip<ObjectsCodec>(asked);
   EXPECT_EQ(objects.label, 5);
   EXPECT_EQ(objects.min_voxels, 250u);
+  EXPECT_FALSE(objects.near.has_value());
+  EXPECT_FALSE(objects.include_fragments);
+  asked.near = Eigen::Vector3d(1.0, -2.5, 0.75);
+  asked.radius = 0.4;
+  asked.include_fragments = true;
+  const ObjectsRequest near = requestRoundTrip<ObjectsCodec>(asked);
+  ASSERT_TRUE(near.near.has_value());
+  EXPECT_EQ(*near.near, *asked.near);
+  EXPECT_EQ(near.radius, 0.4);
+  EXPECT_TRUE(near.include_fragments);
 
-  const MeshRequest first = requestRoundTrip<MeshCodec>({box, 0, 0});
+  const MeshRequest first = requestRoundTrip<MeshCodec>({box, 0, 0, 0});
   ASSERT_TRUE(first.box.has_value());
   EXPECT_EQ(first.box->min, box.min);
   EXPECT_EQ(first.box->max, box.max);
   EXPECT_EQ(first.mesh_id, 0u);
-  const MeshRequest later = requestRoundTrip<MeshCodec>({std::nullopt, 77, 3});
+  EXPECT_EQ(first.object_id, 0u);
+  const MeshRequest later = requestRoundTrip<MeshCodec>({std::nullopt, 77, 3, 0});
   EXPECT_FALSE(later.box.has_value());
   EXPECT_EQ(later.mesh_id, 77u);
   EXPECT_EQ(later.chunk_index, 3u);
+  const MeshRequest object = requestRoundTrip<MeshCodec>({std::nullopt, 0, 0, 42});
+  EXPECT_EQ(object.object_id, 42u);
 
   for (AdminCommand command : {AdminCommand::kStats, AdminCommand::kSave, AdminCommand::kLoad, AdminCommand::kReset}) {
     const AdminRequest admin = requestRoundTrip<AdminCodec>({command, "/tmp/map.vdb"});
@@ -393,9 +375,27 @@ TEST(WireRoundTrip, QueryReplies) {
   EXPECT_EQ(region.free_voxels, 70000u);
   EXPECT_EQ(region.occupancy, 0.3);
 
-  const std::vector<ObjectInstance> found = {
-      {1, 5, {0.0, 0.5, 0.0}, {1.0, 1.5, 0.75}, {0.5, 1.0, 0.25}, 4096, 0.625F},
-      {2, 9, {-2.0, -2.0, -2.0}, {-1.0, -1.0, -1.0}, {-1.5, -1.5, -1.5}, 100, 1.0F}};
+  std::vector<ObjectInstance> found(2);
+  found[0].id = 1;
+  found[0].label = 5;
+  found[0].bbox_min = {0.0, 0.5, 0.0};
+  found[0].bbox_max = {1.0, 1.5, 0.75};
+  found[0].centroid = {0.5, 1.0, 0.25};
+  found[0].voxel_count = 4096;
+  found[0].mean_confidence = 0.625F;
+  found[0].area_m2 = 1.6384;
+  found[0].box_center = {0.5, 1.0, 0.375};
+  found[0].box_half_extents = {0.6, 0.4, 0.375};
+  found[0].box_rotation = Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()));
+  found[1].id = 2;
+  found[1].label = 9;
+  found[1].bbox_min = {-2.0, -2.0, -2.0};
+  found[1].bbox_max = {-1.0, -1.0, -1.0};
+  found[1].centroid = {-1.5, -1.5, -1.5};
+  found[1].voxel_count = 100;
+  found[1].mean_confidence = 1.0F;
+  found[1].area_m2 = 0.04;
+  found[1].fragment = true;
   const auto objects = replyRoundTrip<ObjectsCodec>(okReply(found)).value;
   ASSERT_EQ(objects.size(), 2u);
   for (size_t i = 0; i < 2; ++i) {
@@ -406,6 +406,11 @@ TEST(WireRoundTrip, QueryReplies) {
     EXPECT_EQ(objects[i].centroid, found[i].centroid);
     EXPECT_EQ(objects[i].voxel_count, found[i].voxel_count);
     EXPECT_EQ(objects[i].mean_confidence, found[i].mean_confidence);
+    EXPECT_EQ(objects[i].area_m2, found[i].area_m2);
+    EXPECT_EQ(objects[i].box_center, found[i].box_center);
+    EXPECT_EQ(objects[i].box_half_extents, found[i].box_half_extents);
+    EXPECT_EQ(objects[i].box_rotation.coeffs(), found[i].box_rotation.coeffs());
+    EXPECT_EQ(objects[i].fragment, found[i].fragment);
   }
 
   MeshChunk chunk;

@@ -1,6 +1,7 @@
 // semfuse-query: one subcommand per service of the semfuse server (raycast, labels-at, region,
-// objects, mesh, status, save, load, reset) and the poses topic (poses). Exit codes: 0 ok, 2 usage, 3 server error, 4
-// timeout.
+// objects, mesh, status, save, load, reset), the poses topic (poses) and the distance field's
+// services (distance, occupancy, semantic-distance, semantic-slice, segment-check:
+// distance_commands.hpp). Exit codes: 0 ok, 2 usage, 3 server error, 4 timeout.
 #include <chrono>
 #include <fstream>
 #include <functional>
@@ -14,6 +15,7 @@
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
+#include "distance_commands.hpp"
 #include "raycast_output.hpp"
 #include "report.hpp"
 #include "semfuse/cli/command_line.hpp"
@@ -50,8 +52,13 @@ struct Options {
   std::vector<double> box_min;
   std::vector<double> box_max;
   // objects
-  int label = 0;
+  std::string label = "0";
   unsigned min_voxels = 0;
+  std::vector<double> near;
+  double radius = 0.5;
+  bool fragments = false;
+  // mesh
+  uint32_t object_id = 0;
   // status
   bool watch = false;
   double interval_s = 1.0;
@@ -175,7 +182,15 @@ class Query {
   }
 
   int objects() {
-    auto objects = map_.objects(static_cast<LabelId>(o_.label), o_.min_voxels, timeout_);
+    client::ObjectsRequest request;
+    auto label = labelOf(o_.label);
+    if (!label) return usage(label.error());
+    request.label = label.value();
+    request.min_voxels = o_.min_voxels;
+    if (!o_.near.empty()) request.near = Eigen::Vector3d(o_.near[0], o_.near[1], o_.near[2]);
+    request.radius = o_.radius;
+    request.include_fragments = o_.fragments;
+    auto objects = map_.objects(request, timeout_);
     if (!objects) return reportFailure(objects);
     std::cout << (o_.json ? tools::objectsJson(objects.value(), legend())
                           : tools::objectsTable(objects.value(), legend()));
@@ -189,7 +204,7 @@ class Query {
       if (!parsed) return usage(parsed.error());
       box = parsed.value();
     }
-    auto mesh = map_.mesh(box, timeout_);
+    auto mesh = map_.mesh(box, timeout_, o_.object_id);
     if (!mesh) return reportFailure(mesh);
     std::ofstream file(o_.out, std::ios::binary);
     file.write(reinterpret_cast<const char*>(mesh.value().ply.data()),
@@ -264,6 +279,10 @@ class Query {
     return cli::kExitOk;
   }
 
+  int distanceCommand(const tools::DistanceCommands& commands) {
+    return commands.run(map_, timeout_, [this]() -> const LabelLegend& { return legend(); });
+  }
+
   int admin(const std::string& command) {
     client::CallResult<client::ServerStatus> result = command == "save"   ? map_.save(o_.path, timeout_)
                                                       : command == "load" ? map_.load(o_.path, timeout_)
@@ -286,6 +305,18 @@ class Query {
 
   // The server's legend (published transient-local), else --legend, else an empty one (labels
   // then get generated colours and "label N" names).
+  // A label id, or a name of the server's legend.
+  Result<LabelId> labelOf(const std::string& text) {
+    if (!text.empty() && text.find_first_not_of("0123456789") == std::string::npos) {
+      const unsigned long id = std::stoul(text.size() > 6 ? std::string("70000") : text);
+      if (id > 65535) return makeError("label id " + text + " is out of range");
+      return static_cast<LabelId>(id);
+    }
+    for (const LabelInfo& info : legend().labels)
+      if (info.name == text) return info.id;
+    return makeError("no label named '" + text + "' in the legend '" + legend().name + "'");
+  }
+
   const LabelLegend& legend() {
     if (!legend_) {
       legend_ = map_.waitForLegend(std::chrono::milliseconds(std::min<long>(2000, timeout_.count())));
@@ -349,17 +380,20 @@ int main(int argc, char** argv) {
   region->add_option("--max", o.box_max, "X Y Z")->required()->expected(3);
   region->add_flag("--json", o.json, "print JSON");
 
-  auto* objects = app.add_subcommand("objects", "object instances (connected labeled surfaces)");
-  objects->add_option("--label", o.label, "only this label id (0 = all)")
-      ->check(CLI::Range(0, 65535))
+  auto* objects = app.add_subcommand("objects", "the map's object instances (ids kept while the map grows)");
+  objects->add_option("--label", o.label, "only this label: a name of the legend or an id (0 = all)")
       ->capture_default_str();
-  objects->add_option("--min-voxels", o.min_voxels, "smallest instance")->capture_default_str();
+  objects->add_option("--min-voxels", o.min_voxels, "smallest instance, surface voxels")->capture_default_str();
+  objects->add_option("--near", o.near, "only objects whose surface comes within --radius of X Y Z")->expected(3);
+  objects->add_option("--radius", o.radius, "metres, with --near")->check(CLI::PositiveNumber)->capture_default_str();
+  objects->add_flag("--fragments", o.fragments, "also the pieces too small to be objects");
   objects->add_flag("--json", o.json, "print JSON");
 
   auto* mesh = app.add_subcommand("mesh", "labeled mesh as a PLY file");
   mesh->add_option("--out", o.out, "PLY file to write")->required();
   mesh->add_option("--min", o.box_min, "box corner X Y Z (optional)")->expected(3);
   mesh->add_option("--max", o.box_max, "box corner X Y Z (optional)")->expected(3);
+  mesh->add_option("--object", o.object_id, "only this object's surface (an id from objects)");
 
   auto* status = app.add_subcommand("status", "server counters, map size, cameras, errors");
   status->add_flag("--json", o.json, "print JSON");
@@ -393,6 +427,9 @@ int main(int argc, char** argv) {
   poses->add_flag("--include-lost", o.include_lost,
                   "also write frames that were not integrated (at the camera's last pose; csv says which)");
 
+  tools::DistanceOptions distance_options;
+  const tools::DistanceCommands distance_commands(app, distance_options);
+
   if (const int code = cli::parseCommandLine(app, argc, argv); code >= 0) return code;
   if (Status s = setupLogging("semfuse-query", o.common.log_level); !s) {
     spdlog::error("{}", s.error());
@@ -411,6 +448,7 @@ int main(int argc, char** argv) {
     if (load->parsed()) return query.admin("load");
     if (reset->parsed()) return query.admin("reset");
     if (poses->parsed()) return query.poses();
+    if (distance_commands.parsed()) return query.distanceCommand(distance_commands);
   } catch (const dds::DdsError& e) {
     spdlog::error("DDS: {}", e.what());
     return cli::kExitFailure;

@@ -116,12 +116,13 @@ std::string statusJson(const client::ServerStatus& s) {
 }
 
 std::string objectsTable(const std::vector<client::ObjectInstance>& objects, const LabelLegend& legend) {
-  std::string out = fmt::format("{:>5}  {:<16} {:>8}  {:>6}  {:<26} {:<26} {:<26}\n", "id", "label", "voxels", "conf",
-                                "centroid", "bbox min", "bbox max");
+  std::string out = fmt::format("{:>5}  {:<16} {:>8} {:>8}  {:>6}  {:<26} {:<26} {:<26}\n", "id", "label", "voxels",
+                                "area m2", "conf", "centroid", "bbox min", "bbox max");
   for (const auto& o : objects) {
-    out += fmt::format("{:>5}  {:<16} {:>8}  {:>6.3f}  {:<26} {:<26} {:<26}\n", o.id,
-                       fmt::format("{} ({})", labelName(legend, o.label), o.label), o.voxel_count, o.mean_confidence,
-                       vec(o.centroid), vec(o.bbox_min), vec(o.bbox_max));
+    out += fmt::format("{:>5}  {:<16} {:>8} {:>8.3f}  {:>6.3f}  {:<26} {:<26} {:<26}{}\n", o.id,
+                       fmt::format("{} ({})", labelName(legend, o.label), o.label), o.voxel_count, o.area_m2,
+                       o.mean_confidence, vec(o.centroid), vec(o.bbox_min), vec(o.bbox_max),
+                       o.fragment ? "  fragment" : "");
   }
   return out + fmt::format("{} objects\n", objects.size());
 }
@@ -129,16 +130,24 @@ std::string objectsTable(const std::vector<client::ObjectInstance>& objects, con
 std::string objectsJson(const std::vector<client::ObjectInstance>& objects, const LabelLegend& legend) {
   std::vector<std::string> items;
   for (const auto& o : objects) {
-    items.push_back(JsonObject()
-                        .field("id", o.id)
-                        .field("label", o.label)
-                        .field("name", labelName(legend, o.label))
-                        .field("voxel_count", o.voxel_count)
-                        .field("mean_confidence", static_cast<double>(o.mean_confidence))
-                        .raw("centroid", vecJson(o.centroid))
-                        .raw("bbox_min", vecJson(o.bbox_min))
-                        .raw("bbox_max", vecJson(o.bbox_max))
-                        .str());
+    items.push_back(
+        JsonObject()
+            .field("id", o.id)
+            .field("label", o.label)
+            .field("name", labelName(legend, o.label))
+            .field("voxel_count", o.voxel_count)
+            .field("mean_confidence", static_cast<double>(o.mean_confidence))
+            .raw("centroid", vecJson(o.centroid))
+            .raw("bbox_min", vecJson(o.bbox_min))
+            .raw("bbox_max", vecJson(o.bbox_max))
+            .field("area_m2", o.area_m2)
+            .raw("box_center", vecJson(o.box_center))
+            .raw("box_half_extents", vecJson(o.box_half_extents))
+            .raw("box_rotation_xyzw",
+                 jsonArray({fmt::format("{:.6g}", o.box_rotation.x()), fmt::format("{:.6g}", o.box_rotation.y()),
+                            fmt::format("{:.6g}", o.box_rotation.z()), fmt::format("{:.6g}", o.box_rotation.w())}))
+            .field("fragment", o.fragment)
+            .str());
   }
   return jsonArray(items) + "\n";
 }

@@ -31,6 +31,8 @@ uint8_t shade(uint8_t base, double factor) { return static_cast<uint8_t>(std::cl
 }  // namespace
 
 std::size_t LabeledScene::add(SceneObject object) {
+  if (object.instance == 0) object.instance = next_instance_;
+  next_instance_ = std::max(next_instance_, object.instance + 1);
   bounds_.push_back(bounds(object.shape));
   objects_.push_back(std::move(object));
   return objects_.size() - 1;

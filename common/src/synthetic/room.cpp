@@ -32,26 +32,31 @@ void addShell(LabeledScene& scene, const RoomOptions& o) {
              {182, 150, 110},
              Texture::kChecker});
   const double wall_half_z = 0.5 * o.height;
-  scene.add({"wall +x",
-             box({hx + 0.5 * t, 0, wall_half_z}, {0.5 * t, outer_y, wall_half_z}),
-             labels::kWall,
-             {205, 200, 185},
-             Texture::kStripes});
+  // The four walls are one instance: one surface around the room, as the floor is one.
+  const std::size_t first_wall = scene.add({"wall +x",
+                                            box({hx + 0.5 * t, 0, wall_half_z}, {0.5 * t, outer_y, wall_half_z}),
+                                            labels::kWall,
+                                            {205, 200, 185},
+                                            Texture::kStripes});
+  const uint32_t walls = scene.instanceOf(first_wall);
   scene.add({"wall -x",
              box({-hx - 0.5 * t, 0, wall_half_z}, {0.5 * t, outer_y, wall_half_z}),
              labels::kWall,
              {205, 200, 185},
-             Texture::kStripes});
+             Texture::kStripes,
+             walls});
   scene.add({"wall +y",
              box({0, hy + 0.5 * t, wall_half_z}, {outer_x, 0.5 * t, wall_half_z}),
              labels::kWall,
              {190, 205, 215},
-             Texture::kStripes});
+             Texture::kStripes,
+             walls});
   scene.add({"wall -y",
              box({0, -hy - 0.5 * t, wall_half_z}, {outer_x, 0.5 * t, wall_half_z}),
              labels::kWall,
              {190, 205, 215},
-             Texture::kStripes});
+             Texture::kStripes,
+             walls});
   if (o.ceiling) {
     scene.add({"ceiling",
                box({0, 0, o.height + 0.5 * t}, {outer_x, outer_y, 0.5 * t}),
@@ -64,11 +69,12 @@ void addShell(LabeledScene& scene, const RoomOptions& o) {
 void addTable(LabeledScene& scene) {
   const Rgb wood{140, 90, 50};
   const double x = 0.2, y = 0.1, top_z = 0.75;
-  scene.add({"table top", box({x, y, top_z - 0.03}, {0.6, 0.4, 0.03}), labels::kTable, wood, Texture::kStripes});
+  const uint32_t table = scene.instanceOf(
+      scene.add({"table top", box({x, y, top_z - 0.03}, {0.6, 0.4, 0.03}), labels::kTable, wood, Texture::kStripes}));
   for (double sx : {-1.0, 1.0}) {
     for (double sy : {-1.0, 1.0}) {
       scene.add({"table leg", UprightCylinder{{x + sx * 0.52, y + sy * 0.32}, 0.03, 0.0, top_z - 0.06}, labels::kTable,
-                 wood, Texture::kNoise});
+                 wood, Texture::kNoise, table});
     }
   }
 }
@@ -81,15 +87,16 @@ void addChair(LabeledScene& scene, double x, double y, double yaw_rad, const Rgb
     return Eigen::Vector3d(c + r * Eigen::Vector3d(lx, ly, 0) + Eigen::Vector3d(0, 0, z));
   };
   const double seat_z = 0.45;
-  scene.add({"chair seat", OrientedBox{at(0, 0, seat_z - 0.025), {0.22, 0.22, 0.025}, r}, labels::kChair, color,
-             Texture::kNoise});
+  const uint32_t chair =
+      scene.instanceOf(scene.add({"chair seat", OrientedBox{at(0, 0, seat_z - 0.025), {0.22, 0.22, 0.025}, r},
+                                  labels::kChair, color, Texture::kNoise}));
   scene.add({"chair back", OrientedBox{at(0, -0.2, seat_z + 0.25), {0.22, 0.02, 0.25}, r}, labels::kChair, color,
-             Texture::kNoise});
+             Texture::kNoise, chair});
   for (double sx : {-1.0, 1.0}) {
     for (double sy : {-1.0, 1.0}) {
       const Eigen::Vector3d foot = at(sx * 0.18, sy * 0.18, 0);
       scene.add({"chair leg", UprightCylinder{foot.head<2>(), 0.02, 0.0, seat_z - 0.05}, labels::kChair, color,
-                 Texture::kNoise});
+                 Texture::kNoise, chair});
     }
   }
 }

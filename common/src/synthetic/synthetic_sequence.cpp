@@ -52,6 +52,7 @@ Segmentation SyntheticSequence::makeSegmentation(const RenderedView& view, int i
   segmentation.labels = view.labels.clone();
   cv::Mat labeled = view.labels > 0;  // 255 where labeled
   labeled.convertTo(segmentation.confidence, CV_32FC1, 1.0 / 255.0);
+  if (config_.instances) segmentation.instances = view.instances.clone();
   return segmentation;
 }
 

@@ -10,6 +10,7 @@ void MeshCodec::encodeRequest(const Request& request, WireRequest& out) {
   out.box_max = detail::toPoint(box.max);
   out.mesh_id = request.mesh_id;
   out.chunk_index = request.chunk_index;
+  out.object_id = request.object_id;
 }
 
 Result<MeshRequest> MeshCodec::decodeRequest(const WireRequest& wire) {
@@ -17,6 +18,7 @@ Result<MeshRequest> MeshCodec::decodeRequest(const WireRequest& wire) {
   if (wire.use_box) request.box = Box{detail::fromPoint(wire.box_min), detail::fromPoint(wire.box_max)};
   request.mesh_id = wire.mesh_id;
   request.chunk_index = wire.chunk_index;
+  request.object_id = wire.object_id;
   return request;
 }
 

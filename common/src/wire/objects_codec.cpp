@@ -6,10 +6,20 @@ namespace semfuse::wire {
 void ObjectsCodec::encodeRequest(const Request& request, WireRequest& out) {
   out.label = request.label;
   out.min_voxels = request.min_voxels;
+  out.use_near = request.near.has_value();
+  out.near = detail::toPoint(request.near.value_or(Eigen::Vector3d::Zero()));
+  out.radius = request.radius;
+  out.include_fragments = request.include_fragments;
 }
 
 Result<ObjectsRequest> ObjectsCodec::decodeRequest(const WireRequest& wire) {
-  return ObjectsRequest{wire.label, wire.min_voxels};
+  ObjectsRequest request;
+  request.label = wire.label;
+  request.min_voxels = wire.min_voxels;
+  if (wire.use_near) request.near = detail::fromPoint(wire.near);
+  request.radius = wire.radius;
+  request.include_fragments = wire.include_fragments;
+  return request;
 }
 
 void ObjectsCodec::encodeReply(const ServiceReply<Reply>& reply, WireReply& out) {
@@ -23,6 +33,11 @@ void ObjectsCodec::encodeReply(const ServiceReply<Reply>& reply, WireReply& out)
     wire.centroid = detail::toPoint(o.centroid);
     wire.voxel_count = o.voxel_count;
     wire.mean_confidence = o.mean_confidence;
+    wire.area_m2 = o.area_m2;
+    wire.box_center = detail::toPoint(o.box_center);
+    wire.box_half_extents = {o.box_half_extents.x(), o.box_half_extents.y(), o.box_half_extents.z()};
+    wire.box_rotation = {o.box_rotation.x(), o.box_rotation.y(), o.box_rotation.z(), o.box_rotation.w()};
+    wire.fragment = o.fragment;
     return wire;
   });
 }
@@ -30,13 +45,21 @@ void ObjectsCodec::encodeReply(const ServiceReply<Reply>& reply, WireReply& out)
 Result<ServiceReply<std::vector<ObjectInstance>>> ObjectsCodec::decodeReply(const WireReply& wire) {
   return detail::decodeReplyWith<Reply>(wire, [&] {
     return detail::decodeSequence("objects", wire.objects, [](const semfuse_msg_dds__ObjectInstance_& o) {
-      return ObjectInstance{o.id,
-                            o.label,
-                            detail::fromPoint(o.bbox_min),
-                            detail::fromPoint(o.bbox_max),
-                            detail::fromPoint(o.centroid),
-                            o.voxel_count,
-                            o.mean_confidence};
+      ObjectInstance instance;
+      instance.id = o.id;
+      instance.label = o.label;
+      instance.bbox_min = detail::fromPoint(o.bbox_min);
+      instance.bbox_max = detail::fromPoint(o.bbox_max);
+      instance.centroid = detail::fromPoint(o.centroid);
+      instance.voxel_count = o.voxel_count;
+      instance.mean_confidence = o.mean_confidence;
+      instance.area_m2 = o.area_m2;
+      instance.box_center = detail::fromPoint(o.box_center);
+      instance.box_half_extents = {o.box_half_extents.x, o.box_half_extents.y, o.box_half_extents.z};
+      instance.box_rotation =
+          Eigen::Quaterniond(o.box_rotation.w, o.box_rotation.x, o.box_rotation.y, o.box_rotation.z);
+      instance.fragment = o.fragment;
+      return instance;
     });
   });
 }

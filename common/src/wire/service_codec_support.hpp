@@ -50,6 +50,10 @@ Result<ServiceReply<T>> decodeReplyWith(const WireReply& wire, DecodeValue&& dec
 
 inline geometry_msgs_msg_dds__Point_ toPoint(const Eigen::Vector3d& p) { return {p.x(), p.y(), p.z()}; }
 inline Eigen::Vector3d fromPoint(const geometry_msgs_msg_dds__Point_& p) { return {p.x, p.y, p.z}; }
+inline geometry_msgs_msg_dds__Vector3_ toVector3(const Eigen::Vector3f& v) { return {v.x(), v.y(), v.z()}; }
+inline Eigen::Vector3f fromVector3(const geometry_msgs_msg_dds__Vector3_& v) {
+  return Eigen::Vector3d(v.x, v.y, v.z).cast<float>();
+}
 
 // The elements of a generated sequence, each through `convert`, after checking that the sequence
 // holds what it declares.

@@ -66,12 +66,13 @@ Result<CaseRun> runCase(const TrackSequence& sequence, const TrackCase& track_ca
       const Pose correction = t.guess.inverse() * t.pose;
       std::printf(
           "  frame %4zu %-12s %-22s inliers %.2f agree %.2f rms %.2f mm rcond %.1e dofs %d images %.2f "
-          "start %2d correction %5.1f mm %4.2f deg  iters %3d %5.1f ms  vs reference %5.1f mm\n",
+          "start %2d correction %5.1f mm %4.2f deg  iters %3d %5.1f ms  vs reference %5.1f mm%s\n",
           play.index, tracking::toString(t.status), tracking::toString(t.lost_reason), t.quality.inlier_ratio,
           t.quality.observed_agreement, t.quality.rms_residual_m * 1e3, t.quality.hessian_rcond,
           t.quality.constrained_dofs, t.image_matched, t.quality.start, correction.translation().norm() * 1e3,
           tracking::rotationAngle(correction.linear()) * 180.0 / M_PI, t.quality.iterations, record.track_ms,
-          (t.pose.translation() - reference.translation()).norm() * 1e3);
+          (t.pose.translation() - reference.translation()).norm() * 1e3,
+          record.sees_map ? "  (shows mapped space)" : "");
     }
     run.frames.push_back(std::move(record));
   }

@@ -87,6 +87,7 @@ Result<TrackSequence> TrackSequence::load(const std::string& spec, std::size_t m
       sequence.name_ = "7-Scenes " + std::filesystem::path(argument).parent_path().filename().string();
     sequence.reference_kind_ = "KinectFusion reconstruction";
     sequence.reference_is_truth_ = false;
+    sequence.color_registered_ = false;
   } else if (kind == "synthetic") {
     synthetic::SequenceConfig config;
     if (!argument.empty()) {

@@ -26,6 +26,10 @@ class TrackSequence {
   // True where the reference is independent of depth alignment (motion capture, exact poses):
   // then integrated poses are judged against it; otherwise against an unbroken tracked run.
   bool referenceIsTruth() const { return reference_is_truth_; }
+  // False where the colour image is not registered to the depth image (7-Scenes): the photometric
+  // term would pull poses towards the colour camera's view, so such a sequence is tracked on
+  // depth alone, as the server does with --track-color-weight 0.
+  bool colorRegistered() const { return color_registered_; }
   std::size_t size() const { return frames_.size(); }
   // Frame i without its pose (the tracker must find it); colour when the sequence has it.
   const Frame& frame(std::size_t i) const { return frames_[i]; }
@@ -36,6 +40,7 @@ class TrackSequence {
   std::string name_;
   std::string reference_kind_;
   bool reference_is_truth_ = false;
+  bool color_registered_ = true;
   std::vector<Frame> frames_;
   std::vector<std::optional<Pose>> references_;
 };

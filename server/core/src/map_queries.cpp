@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 #include <unordered_map>
+#include <unordered_set>
 
 #include <openvdb/math/BBox.h>
 
@@ -72,58 +73,60 @@ RegionSummary summarizeRegion(const volume::LabeledVolume& volume, const Eigen::
   return summary;
 }
 
-std::vector<ObjectInstance> findObjects(const volume::LabeledVolume& volume, const LabelLegend& legend, LabelId label,
-                                        uint64_t min_voxels) {
-  const double voxel = volume.voxelSize();
-  // Surface voxels of the requested label(s), then flood fill over 26-neighbours.
-  std::unordered_map<openvdb::Coord, std::pair<LabelId, float>, CoordHash> surface;
-  for (auto it = volume.geometryGrid().cbeginValueOn(); it; ++it) {
-    if (!it.isVoxelValue()) continue;
-    const volume::VoxelValue v = volume::unpackVoxel(*it);
-    if (!isSurface(v, voxel) || v.label == kUnlabeled || legend.isBackground(v.label)) continue;
-    if (label != kUnlabeled && v.label != label) continue;
-    surface.emplace(it.getCoord(), std::make_pair(v.label, v.score));
-  }
+namespace {
 
-  std::vector<ObjectInstance> objects;
-  std::vector<openvdb::Coord> stack;
-  while (!surface.empty()) {
-    auto seed = surface.begin();
-    ObjectInstance object;
-    object.label = seed->second.first;
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    double score_sum = 0.0;
-    openvdb::CoordBBox bounds;
-    score_sum += seed->second.second;
-    stack.assign(1, seed->first);
-    surface.erase(seed);
-    while (!stack.empty()) {
-      const openvdb::Coord c = stack.back();
-      stack.pop_back();
-      ++object.voxel_count;
-      bounds.expand(c);
-      sum += volume.indexToWorld(c);
-      for (int dz = -1; dz <= 1; ++dz)
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dx = -1; dx <= 1; ++dx) {
-            auto next = surface.find(c.offsetBy(dx, dy, dz));
-            if (next == surface.end() || next->second.first != object.label) continue;
-            score_sum += next->second.second;
-            stack.push_back(next->first);
-            surface.erase(next);
-          }
+// The ids of the objects with a surface voxel within radius of the point.
+std::unordered_set<int32_t> idsNear(const openvdb::Int32Tree& ids, const Eigen::Vector3d& point, double radius,
+                                    double voxel_size) {
+  std::unordered_set<int32_t> near;
+  const Eigen::Vector3d lo = (point - Eigen::Vector3d::Constant(radius)) / voxel_size;
+  const Eigen::Vector3d hi = (point + Eigen::Vector3d::Constant(radius)) / voxel_size;
+  const openvdb::CoordBBox box(
+      openvdb::Coord(int(std::floor(lo.x())), int(std::floor(lo.y())), int(std::floor(lo.z()))),
+      openvdb::Coord(int(std::ceil(hi.x())), int(std::ceil(hi.y())), int(std::ceil(hi.z()))));
+  const double radius2 = radius * radius;
+  for (auto leaf = ids.cbeginLeaf(); leaf; ++leaf) {
+    if (!box.hasOverlap(leaf->getNodeBoundingBox())) continue;
+    for (auto it = leaf->cbeginValueOn(); it; ++it) {
+      if (*it <= 0 || !box.isInside(it.getCoord())) continue;
+      const openvdb::Coord c = it.getCoord();
+      if ((Eigen::Vector3d(c.x(), c.y(), c.z()) * voxel_size - point).squaredNorm() <= radius2) near.insert(*it);
     }
-    if (object.voxel_count < std::max<uint64_t>(min_voxels, 1)) continue;
-    object.centroid = sum / static_cast<double>(object.voxel_count);
-    object.bbox_min = volume.indexToWorld(bounds.min()) - Eigen::Vector3d::Constant(voxel / 2);
-    object.bbox_max = volume.indexToWorld(bounds.max()) + Eigen::Vector3d::Constant(voxel / 2);
-    object.mean_confidence = static_cast<float>(score_sum / static_cast<double>(object.voxel_count));
-    objects.push_back(object);
   }
-  std::sort(objects.begin(), objects.end(),
-            [](const ObjectInstance& a, const ObjectInstance& b) { return a.voxel_count > b.voxel_count; });
-  for (size_t i = 0; i < objects.size(); ++i) objects[i].id = static_cast<uint32_t>(i + 1);
-  return objects;
+  return near;
+}
+
+}  // namespace
+
+std::vector<ObjectInstance> selectObjects(const objects::ObjectSet& set, const ObjectsRequest& request,
+                                          double voxel_size) {
+  std::unordered_set<int32_t> near;
+  if (request.near && set.ids) near = idsNear(*set.ids, *request.near, request.radius, voxel_size);
+  std::vector<ObjectInstance> out;
+  for (const objects::TrackedObject& object : set.objects) {
+    if (object.fragment && !request.include_fragments) continue;
+    if (request.label != kUnlabeled && object.label != request.label) continue;
+    if (object.figures.voxel_count < request.min_voxels) continue;
+    if (request.near && !near.count(static_cast<int32_t>(object.id))) continue;
+    const objects::ObjectFigures& f = object.figures;
+    ObjectInstance instance;
+    instance.id = object.id;
+    instance.label = object.label;
+    instance.bbox_min = f.bbox_min;
+    instance.bbox_max = f.bbox_max;
+    instance.centroid = f.centroid;
+    instance.voxel_count = f.voxel_count;
+    instance.mean_confidence = f.mean_confidence;
+    instance.area_m2 = f.area_m2;
+    instance.box_center = f.box.center;
+    instance.box_half_extents = f.box.half_extents;
+    instance.box_rotation = Eigen::Quaterniond(f.box.axes);
+    instance.fragment = object.fragment;
+    instance.frames = object.frames;
+    instance.frame_count = object.frame_count;
+    out.push_back(std::move(instance));
+  }
+  return out;
 }
 
 }  // namespace semfuse::server

@@ -1,6 +1,6 @@
 #pragma once
 // Read-only questions about the map that the query services answer, as free functions over a
-// LabeledVolume (no DDS): what is at these points, what is in this box, which objects exist.
+// LabeledVolume (no DDS): what is at these points, what is in this box, which objects are near.
 // The answers are the services' own types (semfuse/core/service_types.hpp).
 //
 // A "surface voxel" is an observed voxel within half a voxel of the zero crossing
@@ -12,6 +12,7 @@
 
 #include "semfuse/core/legend.hpp"
 #include "semfuse/core/service_types.hpp"
+#include "semfuse/objects/object_tracker.hpp"
 #include "semfuse/volume/labeled_volume.hpp"
 
 namespace semfuse::server {
@@ -25,10 +26,10 @@ std::vector<VoxelSample> sampleAt(const volume::LabeledVolume& volume, const std
 RegionSummary summarizeRegion(const volume::LabeledVolume& volume, const Eigen::Vector3d& min,
                               const Eigen::Vector3d& max);
 
-// Connected (26-neighbourhood) sets of surface voxels sharing one label; label 0 = every label
-// (except unlabeled and background). Largest first; those smaller than min_voxels are left out.
-// mean_confidence is the mean label score of their voxels.
-std::vector<ObjectInstance> findObjects(const volume::LabeledVolume& volume, const LabelLegend& legend, LabelId label,
-                                        uint64_t min_voxels);
+// The objects of a tracked set (server/objects) that a request asks for, as the service answers
+// them: of its label (0 = every label), at least min_voxels surface voxels, fragments only when
+// asked, and with `near` only those with a surface voxel within radius of the point. Largest first.
+std::vector<ObjectInstance> selectObjects(const objects::ObjectSet& set, const ObjectsRequest& request,
+                                          double voxel_size);
 
 }  // namespace semfuse::server

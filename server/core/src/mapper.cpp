@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "semfuse/tracking/volume_field.hpp"
+#include "semfuse/volume/free_space.hpp"
 
 namespace semfuse::server {
 namespace {
@@ -82,9 +83,13 @@ Result<FrameOutcome> Mapper::integrateFrame(const Frame& frame, const Segmentati
     std::unique_lock lock(mutex_);
     stats = volume::integrate(volume_, posed, segmentation);
     if (stats.ok()) ++revision_;
+    // The frame passed the same checks in integrate(): this cannot fail on its input.
+    if (stats.ok() && options_.observe_free_space)
+      static_cast<void>(volume::observeFreeSpace(volume_, posed.depth, posed.intrinsics, *posed.camera_to_world));
   }
   outcome.integrate_ms = millisecondsSince(start);
   if (!stats.ok()) return stats.errorInfo();
+  if (on_change_) on_change_();
   outcome.stats = stats.value();
   outcome.integrated = true;
   tracker_.integrated(frame, tracked.value());
@@ -97,6 +102,8 @@ Result<volume::IntegrationStats> Mapper::integrateSegmentation(const HistoryEntr
   auto stats = volume::integrateLabels(volume_, frame.depth, segmentation.labels, segmentation.confidence,
                                        frame.intrinsics, frame.camera_to_world);
   if (stats.ok()) ++revision_;
+  lock.unlock();
+  if (stats.ok() && on_change_) on_change_();
   return stats;
 }
 
@@ -128,14 +135,19 @@ Status Mapper::load(const std::filesystem::path& path) {
   volume_ = std::move(loaded.value().volume);
   tracker_.reset();  // tracking restarts from the poses the next frames carry
   ++revision_;
+  lock.unlock();
+  if (on_change_) on_change_();
   return Status::Ok();
 }
 
 void Mapper::reset() {
-  std::unique_lock lock(mutex_);
-  volume_.clear();
-  tracker_.reset();
-  ++revision_;
+  {
+    std::unique_lock lock(mutex_);
+    volume_.clear();
+    tracker_.reset();
+    ++revision_;
+  }
+  if (on_change_) on_change_();
 }
 
 std::shared_ptr<const volume::LabeledVolume> Mapper::snapshot() const {

@@ -47,6 +47,9 @@ struct MapperOptions {
   LabelLegend legend;
   bool refine_given_poses = false;
   tracking::TrackerParams tracker;
+  // Also mark the free space each integrated frame saw (volume/free_space.hpp), for the distance
+  // field: it costs a pass over the frame's view under the map's lock.
+  bool observe_free_space = false;
 };
 
 class Mapper {
@@ -93,6 +96,10 @@ class Mapper {
   // Incremented by every write; lets status and query caches tell whether the map changed.
   uint64_t revision() const;
 
+  // Called after every write (integrate, label pass, load, reset), on the writing thread, without
+  // the map's lock: the distance field updates from here. Set it before the fusion thread starts.
+  void setChangeListener(std::function<void()> listener) { on_change_ = std::move(listener); }
+
  private:
   // Decides the frame's pose (tracking::Tracker) and fills `outcome`.
   Result<tracking::TrackedFrame> choosePose(const Frame& frame, FrameOutcome& outcome);
@@ -102,6 +109,7 @@ class Mapper {
   mutable std::shared_mutex mutex_;
   volume::LabeledVolume volume_;
   uint64_t revision_ = 0;  // guarded by mutex_
+  std::function<void()> on_change_;
 
   mutable std::mutex snapshot_mutex_;  // one copy at a time; guards the two below
   mutable std::shared_ptr<const volume::LabeledVolume> snapshot_;

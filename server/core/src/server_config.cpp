@@ -100,6 +100,12 @@ void addServerOptions(CLI::App& app, ServerConfig& c) {
   app.add_option("--refine-poses", c.refine_given_poses, "refine poses that come with frames by SDF alignment")
       ->group(tracking)
       ->capture_default_str();
+  app.add_option("--track-color-weight", c.track_color_weight,
+                 "weight of colour against depth when tracking cameras without poses; 0 for sensors whose colour "
+                 "is not registered to their depth")
+      ->check(CLI::Range(0.0f, 100.0f))
+      ->group(tracking)
+      ->capture_default_str();
 
   auto* queries = "Queries";
   app.add_option("--max-raycast-pixels", c.queries.max_raycast_pixels, "largest raycast image (width*height)")
@@ -119,6 +125,7 @@ void addServerOptions(CLI::App& app, ServerConfig& c) {
 
   addRosOptions(app, c.ros);
   addMapUpdateOptions(app, c.map_updates);
+  addEsdfOptions(app, c.esdf);
 }
 
 Result<LabelLegend> serverLegend(const ServerConfig& config) {

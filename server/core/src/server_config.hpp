@@ -9,12 +9,14 @@
 
 #include <CLI/App.hpp>
 
+#include "esdf_config.hpp"
 #include "fusion_limits.hpp"
 #include "map_update_config.hpp"
 #include "query_limits.hpp"
 #include "ros_config.hpp"
 #include "semfuse/core/legend.hpp"
 #include "semfuse/core/result.hpp"
+#include "semfuse/tracking/tracker_params.hpp"
 #include "semfuse/volume/volume_params.hpp"
 
 namespace semfuse::server {
@@ -40,6 +42,9 @@ struct ServerConfig {
 
   // Tracking
   bool refine_given_poses = false;
+  // Weight of the photometric term of cameras without poses (tracking::TrackerParams::color_weight);
+  // 0 for sensors whose colour is not registered to their depth (7-Scenes), where it biases poses.
+  float track_color_weight = tracking::TrackerParams{}.color_weight;
 
   // Queries
   QueryLimits queries;
@@ -53,6 +58,8 @@ struct ServerConfig {
 
   // The live mesh for viewers, RViz and Foxglove (--map-updates.*, YAML section `map-updates:`)
   MapUpdateConfig map_updates;
+  // The distance field and the occupancy grid topic (--esdf, sections `esdf:` and `occupancy:`)
+  EsdfConfig esdf;
 };
 
 // Declares every option on `app` (documented for --help), bound to `config`.

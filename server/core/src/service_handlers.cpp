@@ -10,6 +10,7 @@
 
 #include "map_queries.hpp"
 #include "semfuse/core/camera_check.hpp"
+#include "semfuse/objects/object_mesh.hpp"
 #include "semfuse/render/mesh.hpp"
 #include "semfuse/render/ply_writer.hpp"
 #include "semfuse/render/raycast.hpp"
@@ -21,6 +22,9 @@ template <class T>
 ServiceReply<T> refuse(ReplyCode code, std::string message) {
   return ServiceReply<T>::failure(code, std::move(message));
 }
+
+// A near query's largest radius: a room and more, not the whole map by accident of units.
+constexpr double kMaxNearRadius = 100.0;
 
 Status validBox(const Box& box) {
   if (!box.min.allFinite() || !box.max.allFinite()) return makeError("box corners must be finite");
@@ -86,23 +90,56 @@ ServiceReply<RegionSummary> handleRegion(const Box& box, const MapAccess& map) {
   return reply;
 }
 
-ServiceReply<std::vector<ObjectInstance>> handleObjects(const ObjectsRequest& request, const MapAccess& map) {
+ServiceReply<std::vector<ObjectInstance>> handleObjects(const ObjectsRequest& request, const MapAccess& map,
+                                                        objects::ObjectTracker& tracker) {
   using Reply = std::vector<ObjectInstance>;
   const LabelLegend& legend = map.legend();
   if (request.label != kUnlabeled && !legend.contains(request.label))
     return refuse<Reply>(ReplyCode::kInvalidArgument,
                          "label " + std::to_string(request.label) + " is not in the legend '" + legend.name + "'");
+  if (request.near && (!request.near->allFinite() || !std::isfinite(request.radius) || request.radius <= 0.0 ||
+                       request.radius > kMaxNearRadius))
+    return refuse<Reply>(ReplyCode::kInvalidArgument, "near needs a finite point and a radius in (0, " +
+                                                          std::to_string(int(kMaxNearRadius)) + "] m");
+  const auto snapshot = map.snapshot();
+  const auto set = tracker.objectsOf(snapshot);
   ServiceReply<Reply> reply;
-  reply.value = findObjects(*map.snapshot(), legend, request.label, request.min_voxels);
+  reply.value = selectObjects(*set, request, snapshot->voxelSize());
   return reply;
 }
 
+ServiceReply<std::vector<ObjectInstance>> handleObjects(const ObjectsRequest& request, const MapAccess& map) {
+  auto tracker = makeObjectTracker(map.legend(), map.snapshot()->voxelSize());
+  return handleObjects(request, map, *tracker);
+}
+
+std::unique_ptr<objects::ObjectTracker> makeObjectTracker(const LabelLegend& legend, double voxel_size,
+                                                          objects::ObjectParams params) {
+  return std::make_unique<objects::ObjectTracker>(std::move(params), legend, voxel_size);
+}
+
 ServiceReply<MeshChunk> handleMesh(const MeshRequest& request, const MapAccess& map, HeldMeshes& meshes,
-                                   const QueryLimits& limits) {
+                                   const QueryLimits& limits, objects::ObjectTracker* tracker) {
   std::shared_ptr<const std::string> ply;
   uint64_t mesh_id = request.mesh_id;
   uint32_t vertices = 0, faces = 0;
-  if (mesh_id == 0) {
+  if (mesh_id == 0 && request.object_id != 0) {
+    if (!tracker) return refuse<MeshChunk>(ReplyCode::kInvalidArgument, "this map keeps no objects");
+    const auto snapshot = map.snapshot();
+    const auto set = tracker->objectsOf(snapshot);
+    const objects::TrackedObject* object = set->find(request.object_id);
+    if (!object || !set->ids)
+      return refuse<MeshChunk>(ReplyCode::kNotFound, "the map has no object " + std::to_string(request.object_id));
+    auto mesh =
+        objects::objectMesh(*snapshot, *set->ids, object->id, object->figures.bbox_min, object->figures.bbox_max);
+    if (!mesh.ok()) return refuse<MeshChunk>(ReplyCode::kInternal, mesh.error());
+    auto bytes = render::plyBytes(mesh.value(), map.legend());
+    if (!bytes.ok()) return refuse<MeshChunk>(ReplyCode::kInternal, bytes.error());
+    vertices = static_cast<uint32_t>(mesh.value().vertices.size());
+    faces = static_cast<uint32_t>(mesh.value().triangles.size());
+    ply = std::make_shared<const std::string>(std::move(bytes).value());
+    mesh_id = meshes.hold(ply);
+  } else if (mesh_id == 0) {
     render::MeshOptions options;
     if (request.box) {
       if (Status ok = validBox(*request.box); !ok) return refuse<MeshChunk>(ReplyCode::kInvalidArgument, ok.error());

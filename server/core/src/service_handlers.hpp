@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,7 @@
 #include "semfuse/core/result.hpp"
 #include "semfuse/core/server_status.hpp"
 #include "semfuse/core/service_types.hpp"
+#include "semfuse/objects/object_tracker.hpp"
 
 namespace semfuse::server {
 
@@ -26,10 +28,20 @@ ServiceReply<RaycastImages> handleRaycast(const RaycastRequest& request, const M
 ServiceReply<std::vector<VoxelSample>> handleLabelsAt(const LabelsAtRequest& request, const MapAccess& map,
                                                       const QueryLimits& limits);
 ServiceReply<RegionSummary> handleRegion(const Box& box, const MapAccess& map);
+// The map's objects as `tracker` groups and names them (server/objects/README.md): the same
+// tracker keeps an object's id across calls and as the map grows. Without a tracker, a fresh one
+// (ids from 1 for this call alone: the fuzzer's and the tests' fixed maps).
+ServiceReply<std::vector<ObjectInstance>> handleObjects(const ObjectsRequest& request, const MapAccess& map,
+                                                        objects::ObjectTracker& tracker);
 ServiceReply<std::vector<ObjectInstance>> handleObjects(const ObjectsRequest& request, const MapAccess& map);
 // mesh_id 0 extracts a mesh and holds it in `meshes`; later chunks are cut from the held PLY.
+// object_id != 0 meshes that object of `tracker`'s (NOT_FOUND when the map has no such object).
 ServiceReply<MeshChunk> handleMesh(const MeshRequest& request, const MapAccess& map, HeldMeshes& meshes,
-                                   const QueryLimits& limits);
+                                   const QueryLimits& limits, objects::ObjectTracker* tracker = nullptr);
+
+// The tracker a server's objects and mesh services share, for a map of this legend and voxel size.
+std::unique_ptr<objects::ObjectTracker> makeObjectTracker(const LabelLegend& legend, double voxel_size,
+                                                          objects::ObjectParams params = {});
 
 // What the admin service acts on.
 struct AdminActions {

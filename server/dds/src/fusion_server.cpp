@@ -41,6 +41,8 @@ MapperOptions mapperOptions(const ServerConfig& config, const LabelLegend& legen
   options.volume = valueOrThrow(serverVolumeParams(config, legend));
   options.legend = legend;
   options.refine_given_poses = config.refine_given_poses;
+  options.tracker.color_weight = config.track_color_weight;
+  options.observe_free_space = config.esdf.enabled;
   return options;
 }
 
@@ -72,6 +74,14 @@ FusionServer::FusionServer(ServerConfig config)
                  size.observed_voxels);
   }
 
+  if (config_.esdf.enabled) {
+    if (Status ok = validateEsdfConfig(config_.esdf, config_.volume.voxel_size); !ok)
+      throw std::runtime_error(ok.error());
+    distance_field_ = std::make_unique<DistanceField>(*mapper_, config_.volume.voxel_size, config_.esdf.field);
+    mapper_->setChangeListener([field = distance_field_.get()] { field->notify(); });
+    occupancy_publisher_ = std::make_unique<OccupancyPublisher>(participant_, *distance_field_, config_.esdf);
+  }
+
   fusion_ = std::make_unique<FusionLoop>(*mapper_, frames_, state_, config_.fusion,
                                          [this](const Frame& f, const FrameOutcome& o) { publishPose(f, o); });
   ingest_ = std::make_unique<Ingest>(participant_, frames_, *fusion_, state_, legend_);
@@ -89,7 +99,8 @@ FusionServer::FusionServer(ServerConfig config)
   }
   services_ = std::make_unique<Services>(
       participant_, config_, *mapper_, *fusion_, state_, [this] { return snapshot(); },
-      [this](const std::string& path) { return saveMap(path); }, map_updates_ ? &map_updates_->updater() : nullptr);
+      [this](const std::string& path) { return saveMap(path); }, distance_field_.get(),
+      map_updates_ ? &map_updates_->updater() : nullptr);
 }
 
 FusionServer::~FusionServer() { stop(); }
@@ -106,7 +117,8 @@ FusionServer::~FusionServer() { stop(); }
 //    ends. The services keep answering queries meanwhile.
 // 4. The services stop: each finishes the request in hand (none can be waiting on the fusion
 //    thread any more) and answers those still waiting UNAVAILABLE (dds::RpcServer::stop). The
-//    map updates' thread stops before them (map_blocks only reads its store).
+//    map updates' thread stops before them (map_blocks only reads its store); with --esdf the
+//    occupancy publisher stops before them too, and the distance field's thread after.
 // run() then saves the map and publishes a last status; the DDS entities (writers, topics,
 // participant) go last, as members, after everything that writes with them has stopped.
 void FusionServer::stop() {
@@ -120,7 +132,10 @@ void FusionServer::stop() {
     fusion_->stop();
   }
   if (map_updates_) map_updates_->stop();
+  if (occupancy_publisher_) occupancy_publisher_->stop();
   services_.reset();
+  // The field goes after the services that read it; nothing writes the map any more.
+  if (distance_field_) distance_field_->stop();
 }
 
 int FusionServer::run() {
@@ -128,6 +143,8 @@ int FusionServer::run() {
   if (Status ok = legend_writer_.write(encoded_legend.msg()); !ok) spdlog::warn("legend: {}", ok.error());
 
   if (map_updates_) map_updates_->start();
+  if (distance_field_) distance_field_->start();
+  if (occupancy_publisher_) occupancy_publisher_->start();
   fusion_->start();
   ingest_->start();
   if (ros_ingest_) ros_ingest_->start();

@@ -7,12 +7,14 @@
 #include <memory>
 #include <mutex>
 
+#include "distance_field.hpp"
 #include "frame_queue.hpp"
 #include "fusion_loop.hpp"
 #include "ingest.hpp"
 #include "map_update_publisher.hpp"
 #include "mapper.hpp"
 #include "mapper_access.hpp"
+#include "occupancy_publisher.hpp"
 #include "process_memory.hpp"
 #include "ros_ingest.hpp"
 #include "semfuse/dds/participant.hpp"
@@ -56,7 +58,9 @@ class FusionServer {
   std::unique_ptr<Mapper> mapper_;
   std::unique_ptr<FusionLoop> fusion_;
   std::unique_ptr<Ingest> ingest_;
-  std::unique_ptr<RosIngest> ros_ingest_;  // with --ros-ingest only
+  std::unique_ptr<RosIngest> ros_ingest_;                    // with --ros-ingest only
+  std::unique_ptr<DistanceField> distance_field_;            // with --esdf only
+  std::unique_ptr<OccupancyPublisher> occupancy_publisher_;  // with --esdf only
   std::unique_ptr<Services> services_;
   std::unique_ptr<MapperAccess> map_access_;         // what the map updates read
   std::unique_ptr<MapUpdatePublisher> map_updates_;  // null with --map-updates.rate 0

@@ -3,6 +3,8 @@
 #include <chrono>
 #include <utility>
 
+#include <spdlog/spdlog.h>
+
 #include "tbb_worker_names.hpp"
 
 namespace semfuse::server {
@@ -34,10 +36,22 @@ Services::Server<Codec> Services::serve(const dds::Participant& participant, con
 }
 
 Services::Services(const dds::Participant& participant, const ServerConfig& config, Mapper& mapper, FusionLoop& fusion,
-                   ServerState& state, SnapshotFn snapshot, SaveFn save, MapUpdater* map_updates)
+                   ServerState& state, SnapshotFn snapshot, SaveFn save, const DistanceField* field,
+                   MapUpdater* map_updates)
     : state_(state), map_(mapper) {
   using namespace std::chrono_literals;
   limits_ = config.queries;
+  // Up from the map's floor where it has one (a map in a camera's frame has y down), else z.
+  objects::ObjectParams object_params;
+  object_params.up_from_floor = true;
+  objects_ = makeObjectTracker(mapper.legend(), config.volume.voxel_size, object_params);
+  // Until the status or a topic carries them, the objects' changes go to the log.
+  objects_->setListener([](const ObjectEvents& update) {
+    std::size_t counts[4] = {0, 0, 0, 0};
+    for (const ObjectEvent& event : update.events) ++counts[static_cast<int>(event.kind)];
+    spdlog::info("objects update {}: {} objects; {} appeared, {} merged, {} split, {} vanished", update.update,
+                 update.object_count, counts[0], counts[1], counts[2], counts[3]);
+  });
   admin_.map_file = config.map_file;
   admin_.save = std::move(save);
   admin_.load = [&mapper, &fusion](const std::string& path) {
@@ -67,10 +81,11 @@ Services::Services(const dds::Participant& participant, const ServerConfig& conf
       [this](const LabelsAtRequest& request) { return handleLabelsAt(request, map_, limits_); });
   region_server_ = serve<wire::RegionCodec>(participant, topics::region(),
                                             [this](const Box& box) { return handleRegion(box, map_); });
-  objects_server_ = serve<wire::ObjectsCodec>(
-      participant, topics::objects(), [this](const ObjectsRequest& request) { return handleObjects(request, map_); });
+  objects_server_ = serve<wire::ObjectsCodec>(participant, topics::objects(), [this](const ObjectsRequest& request) {
+    return handleObjects(request, map_, *objects_);
+  });
   mesh_server_ = serve<wire::MeshCodec>(participant, topics::mesh(), [this](const MeshRequest& request) {
-    return handleMesh(request, map_, meshes_, limits_);
+    return handleMesh(request, map_, meshes_, limits_, objects_.get());
   });
   admin_server_ = serve<wire::AdminCodec>(
       participant, topics::admin(), [this](const AdminRequest& request) { return handleAdmin(request, admin_); },
@@ -81,6 +96,22 @@ Services::Services(const dds::Participant& participant, const ServerConfig& conf
         if (map_updates) map_updates->touch();  // someone follows the mesh: keep it up to date
         return handleMapBlocks(request, map_updates ? &map_updates->store() : nullptr, page_bytes);
       });
+
+  distance_ = {field, &mapper.legend(), limits_, config.esdf.max_slice_cells, config.esdf.occupancy_frame_id};
+  distance_server_ = serve<wire::DistanceCodec>(
+      participant, topics::distance(), [this](const DistanceRequest& r) { return handleDistance(r, distance_); });
+  occupancy_slice_server_ = serve<wire::OccupancySliceCodec>(
+      participant, topics::occupancySlice(),
+      [this](const OccupancySliceRequest& r) { return handleOccupancySlice(r, distance_); });
+  semantic_distance_server_ = serve<wire::SemanticDistanceCodec>(
+      participant, topics::semanticDistance(),
+      [this](const SemanticDistanceRequest& r) { return handleSemanticDistance(r, distance_); });
+  semantic_slice_server_ = serve<wire::SemanticSliceCodec>(
+      participant, topics::semanticSlice(),
+      [this](const SemanticSliceRequest& r) { return handleSemanticSlice(r, distance_); });
+  segment_check_server_ =
+      serve<wire::SegmentCheckCodec>(participant, topics::segmentCheck(),
+                                     [this](const SegmentCheckRequest& r) { return handleSegmentCheck(r, distance_); });
 }
 
 Services::~Services() = default;

@@ -1,7 +1,9 @@
 #pragma once
 // The DDS adapter of the query services (raycast, labels_at, region, objects, mesh, admin,
-// map_blocks): one dds::RpcServer thread per service that decodes each request with its codec
-// (common/wire/service_codecs.hpp, map_update_codecs.hpp), calls the service's handler (service_handlers.hpp: no DDS),
+// map_blocks, and the distance field's distance, occupancy_slice, semantic_distance, semantic_slice,
+// segment_check): one dds::RpcServer thread per service that decodes each request with its codec
+// (common/wire/service_codecs.hpp, map_update_codecs.hpp, distance_codecs.hpp), calls the
+// service's handler (service_handlers.hpp: no DDS),
 // encodes the reply and writes it. Every request gets a reply: one that does not decode gets
 // INVALID_ARGUMENT and the decoder's message. Refused queries are counted in the server's
 // status (invalid_query), with their messages; a failed admin command is recorded as an error of
@@ -11,6 +13,8 @@
 #include <memory>
 #include <string>
 
+#include "distance_field.hpp"
+#include "distance_handlers.hpp"
 #include "fusion_loop.hpp"
 #include "held_meshes.hpp"
 #include "map_blocks_handler.hpp"
@@ -21,6 +25,7 @@
 #include "semfuse/dds/rpc.hpp"
 #include "semfuse/dds/topics.hpp"
 #include "semfuse/wire/map_update_codecs.hpp"
+#include "semfuse/wire/distance_codecs.hpp"
 #include "semfuse/wire/service_codecs.hpp"
 #include "server_config.hpp"
 #include "server_state.hpp"
@@ -33,9 +38,11 @@ class Services {
   using SnapshotFn = std::function<ServerStatus()>;
   using SaveFn = std::function<Status(const std::string& path)>;
 
-  // map_updates: the live mesh, whose store map_blocks pages (null: map_blocks answers UNAVAILABLE).
+  // `field` is the distance field (null without --esdf: its services answer UNAVAILABLE);
+  // `map_updates` the live mesh, whose store map_blocks pages (null: map_blocks answers UNAVAILABLE).
   Services(const dds::Participant& participant, const ServerConfig& config, Mapper& mapper, FusionLoop& fusion,
-           ServerState& state, SnapshotFn snapshot, SaveFn save, MapUpdater* map_updates = nullptr);
+           ServerState& state, SnapshotFn snapshot, SaveFn save, const DistanceField* field = nullptr,
+           MapUpdater* map_updates = nullptr);
   ~Services();
 
  private:
@@ -52,7 +59,10 @@ class Services {
   MapperAccess map_;
   QueryLimits limits_;
   HeldMeshes meshes_;
+  // The map's objects, shared by the objects and mesh services so that ids stay with objects.
+  std::unique_ptr<objects::ObjectTracker> objects_;
   AdminActions admin_;
+  DistanceQueryContext distance_;
   // Last, so that their threads stop before what the handlers use goes.
   Server<wire::RaycastCodec> raycast_server_;
   Server<wire::LabelsAtCodec> labels_at_server_;
@@ -61,6 +71,11 @@ class Services {
   Server<wire::MeshCodec> mesh_server_;
   Server<wire::AdminCodec> admin_server_;
   Server<wire::MapBlocksCodec> map_blocks_server_;
+  Server<wire::DistanceCodec> distance_server_;
+  Server<wire::OccupancySliceCodec> occupancy_slice_server_;
+  Server<wire::SemanticDistanceCodec> semantic_distance_server_;
+  Server<wire::SemanticSliceCodec> semantic_slice_server_;
+  Server<wire::SegmentCheckCodec> segment_check_server_;
 };
 
 }  // namespace semfuse::server

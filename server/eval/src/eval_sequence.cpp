@@ -111,6 +111,7 @@ Result<EvalSequence> loadSynthetic(const SyntheticOptions& options, const fs::pa
   config.intrinsics = config.intrinsics.scaled(options.scale);
   config.noise = synthetic::DepthNoiseParams{};
   config.seed = options.seed;
+  config.instances = true;
   synthetic::SyntheticSequence sequence(config);
 
   EvalSequence out;
@@ -129,21 +130,26 @@ Result<EvalSequence> loadSynthetic(const SyntheticOptions& options, const fs::pa
   for (int i = 0; i < options.frames; ++i) {
     const fs::path depth_path = folder / numbered("depth", i, ".tiff");
     const fs::path labels_path = folder / numbered("labels", i, ".png");
-    cv::Mat depth, labels;
-    if (fs::exists(depth_path) && fs::exists(labels_path)) {
+    const fs::path instances_path = folder / numbered("instances", i, ".png");
+    cv::Mat depth, labels, instances;
+    if (fs::exists(depth_path) && fs::exists(labels_path) && fs::exists(instances_path)) {
       depth = cv::imread(depth_path.string(), cv::IMREAD_UNCHANGED);
       labels = cv::imread(labels_path.string(), cv::IMREAD_UNCHANGED);
+      instances = cv::imread(instances_path.string(), cv::IMREAD_UNCHANGED);
     }
-    if (depth.type() != CV_32FC1 || labels.type() != CV_16UC1) {
+    if (depth.type() != CV_32FC1 || labels.type() != CV_16UC1 || instances.type() != CV_16UC1) {
       auto rendered = sequence.frameWithGroundTruth(i);
       if (!rendered) return makeError("synthetic frame " + std::to_string(i) + ": " + rendered.error());
       depth = rendered.value().first.depth;
       labels = rendered.value().second.labels;
+      instances = rendered.value().second.instances;
       if (Status s = writeImage(depth_path, depth); !s) return makeError(s.error());
       if (Status s = writeImage(labels_path, labels); !s) return makeError(s.error());
+      if (Status s = writeImage(instances_path, instances); !s) return makeError(s.error());
     }
     out.frames.push_back({depth, sequence.pose(i)});
     out.truth.push_back(labels);
+    out.instances.push_back(instances);
   }
   out.present_labels = presentLabels(out.truth);
   return out;

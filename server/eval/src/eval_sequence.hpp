@@ -34,6 +34,7 @@ struct EvalSequence {
   PinholeIntrinsics intrinsics;
   std::vector<EvalFrame> frames;
   std::vector<cv::Mat> truth;               // CV_16UC1 per frame, 0 = unlabeled
+  std::vector<cv::Mat> instances;           // CV_16UC1 per frame, the true object instance (synthetic only)
   std::vector<Segmentation> segmentations;  // a real segmenter's output per frame (7scenes only;
                                             // empty labels where it did not run)
   std::vector<LabelId> present_labels;      // labels in `truth`: the noise models' wrong labels

@@ -19,7 +19,7 @@ KeyframeStore::KeyframeStore(KeyframeParams params) : params_(params) {
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
   // Positions are drawn in normalised image coordinates and resolved per image, so one set of
   // ferns serves any resolution.
-  tests_.resize(static_cast<std::size_t>(params_.ferns * params_.tests_per_fern));
+  tests_.resize(static_cast<std::size_t>(params_.ferns) * static_cast<std::size_t>(params_.tests_per_fern));
   for (Test& test : tests_) {
     test.level = kCodeLevel;
     test.x = static_cast<int>(unit(rng) * 1e6f);
@@ -40,7 +40,8 @@ std::vector<uint8_t> KeyframeStore::encode(const ImagePyramid& images) const {
   for (int f = 0; f < params_.ferns; ++f) {
     uint8_t outcome = 0;
     for (int t = 0; t < params_.tests_per_fern; ++t) {
-      const Test& test = tests_[static_cast<std::size_t>(f * params_.tests_per_fern + t)];
+      const Test& test = tests_[static_cast<std::size_t>(f) * static_cast<std::size_t>(params_.tests_per_fern) +
+                                static_cast<std::size_t>(t)];
       const int x = static_cast<int>(static_cast<int64_t>(test.x) * cols / 1000000);
       const int y = static_cast<int>(static_cast<int64_t>(test.y) * rows / 1000000);
       float value = 0.0f;

@@ -131,7 +131,7 @@ PassSystems accumulate(const std::vector<Eigen::Vector3f>& points, const std::ve
 
 }  // namespace
 
-SdfTracker::SdfTracker(TrackerParams params) : params_(std::move(params)) {}
+SdfTracker::SdfTracker(TrackerParams params) : params_(params) {}
 
 Status SdfTracker::validate(const TrackerParams& p) {
   if (std::any_of(p.max_iterations.begin(), p.max_iterations.end(), [](int n) { return n < 0; }))

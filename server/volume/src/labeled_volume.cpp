@@ -2,6 +2,7 @@
 
 #include <cassert>
 #include <cmath>
+#include <utility>
 
 namespace semfuse::volume {
 namespace {
@@ -39,6 +40,8 @@ LabeledVolume LabeledVolume::deepCopy() const {
   copy.geometry_ = geometry_->deepCopy();
   if (color_) copy.color_ = color_->deepCopy();
   if (label_sidecar_) copy.label_sidecar_ = label_sidecar_->deepCopy();
+  if (instances_) copy.instances_ = instances_->deepCopy();
+  copy.next_instance_id_ = next_instance_id_;
   if (free_space_) copy.free_space_ = free_space_->deepCopy();
   copy.frames_integrated_ = frames_integrated_;
   copy.leaf_revisions_ = std::make_shared<RevisionTree>(*leaf_revisions_);
@@ -73,6 +76,8 @@ void LabeledVolume::clear() {
   geometry_->clear();
   if (color_) color_->clear();
   if (label_sidecar_) label_sidecar_->clear();
+  instances_.reset();
+  next_instance_id_ = 1;
   if (free_space_) free_space_->clear();
   frames_integrated_ = 0;
   leaf_revisions_->clear();
@@ -144,6 +149,23 @@ LabeledVolume::LeafChanges LabeledVolume::changesSince(uint64_t revision) const 
   for (auto it = leaf_revisions_->cbeginValueOn(); it; ++it)
     if (static_cast<uint64_t>(*it) > revision) changes.leaves.push_back(keyOrigin(it.getCoord()));
   return changes;
+}
+
+InstanceGrid& LabeledVolume::mutableInstanceGrid() {
+  if (!instances_) {
+    instances_ = InstanceGrid::create(0);
+    instances_->setTransform(voxelTransform(params_.voxel_size));
+    instances_->setName("instance");
+  }
+  return *instances_;
+}
+
+void LabeledVolume::setInstanceGrid(InstanceGrid::Ptr grid) {
+  instances_ = std::move(grid);
+  if (instances_) {
+    instances_->setTransform(voxelTransform(params_.voxel_size));
+    instances_->setName("instance");
+  }
 }
 
 }  // namespace semfuse::volume

@@ -19,6 +19,7 @@
 
 #include "semfuse/client/call_result.hpp"
 #include "semfuse/client/server_status.hpp"
+#include "semfuse/core/distance_service_types.hpp"
 #include "semfuse/core/legend.hpp"
 #include "semfuse/core/raycast_layers.hpp"
 #include "semfuse/core/service_types.hpp"
@@ -40,11 +41,22 @@ using semfuse::kLabelsLayer;
 using semfuse::kNormalsLayer;
 using semfuse::LabelArea;
 using semfuse::ObjectInstance;
+using semfuse::ObjectsRequest;
 using semfuse::RaycastImages;
 using semfuse::RaycastLayer;
 using semfuse::RaycastLayers;
 using semfuse::RegionSummary;
 using semfuse::VoxelSample;
+// The distance field's (semfuse/core/distance_service_types.hpp).
+using semfuse::DistanceSample;
+using semfuse::OccupancyGrid;
+using semfuse::OccupancySliceRequest;
+using semfuse::Segment;
+using semfuse::SegmentResult;
+using semfuse::SegmentStatus;
+using semfuse::SemanticSample;
+using semfuse::SemanticSlice;
+using semfuse::SemanticSliceRequest;
 
 // A whole mesh, put together from the chunks of the mesh service.
 struct MeshData {
@@ -66,8 +78,11 @@ class MapClient {
   CallResult<RegionSummary> region(const Box& box, Timeout timeout);
   // label 0 = objects of every label.
   CallResult<std::vector<ObjectInstance>> objects(LabelId label, uint32_t min_voxels, Timeout timeout);
-  // Fetches every chunk of the mesh; `timeout` applies to each chunk's request.
-  CallResult<MeshData> mesh(const std::optional<Box>& box, Timeout timeout);
+  // Every filter of the objects service: label, size, near a point, fragments.
+  CallResult<std::vector<ObjectInstance>> objects(const ObjectsRequest& request, Timeout timeout);
+  // Fetches every chunk of the mesh; `timeout` applies to each chunk's request. object_id != 0:
+  // only that object's surface (an id of objects()).
+  CallResult<MeshData> mesh(const std::optional<Box>& box, Timeout timeout, uint32_t object_id = 0);
 
   CallResult<ServerStatus> stats(Timeout timeout);
   // path "" = the server's own map file.
@@ -90,9 +105,31 @@ class MapClient {
   std::vector<TrackedPose> takePoses(Timeout timeout);
   uint64_t rejectedPoses() const;
 
+  // The distance field, for planners and navigation (servers started with --esdf; others answer
+  // UNAVAILABLE). Distances in metres, world frame, z up; unknown space is reported as unknown.
+  // Signed distance and its unit gradient at points (thousands per call).
+  CallResult<std::vector<DistanceSample>> distances(const std::vector<Eigen::Vector3d>& points, Timeout timeout);
+  // A 2D occupancy grid (nav_msgs/OccupancyGrid's layout) of a height band.
+  CallResult<OccupancyGrid> occupancySlice(const OccupancySliceRequest& request, Timeout timeout);
+  // Distance and direction to the nearest surface of any of `labels`.
+  CallResult<std::vector<SemanticSample>> semanticDistances(const std::vector<LabelId>& labels,
+                                                            const std::vector<Eigen::Vector3d>& points,
+                                                            Timeout timeout);
+  // That distance over a horizontal plane.
+  CallResult<SemanticSlice> semanticSlice(const SemanticSliceRequest& request, Timeout timeout);
+  // Whether a sphere of `radius` (0: a point) moved along each segment stays clear.
+  CallResult<std::vector<SegmentResult>> checkSegments(const std::vector<Segment>& segments, double radius,
+                                                       Timeout timeout);
+
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
+  struct DistanceRpcs;  // map_client_distance.cpp
+  struct DistanceRpcsDeleter {
+    void operator()(DistanceRpcs* rpcs) const;
+  };
+  std::unique_ptr<DistanceRpcs, DistanceRpcsDeleter> distance_;
+  static std::unique_ptr<DistanceRpcs, DistanceRpcsDeleter> makeDistanceRpcs(const dds::Participant& participant);
 };
 
 }  // namespace semfuse::client

@@ -30,7 +30,7 @@ using SegmentFunction = std::function<Result<Segmentation>(const Frame&)>;
 struct SegmenterOptions {
   std::string segmenter_id = "semfuse-segmenter";
   std::string camera_id;  // only frames of this camera; empty = every camera
-  int every = 1;          // segment every Nth received frame (emulates a slow model)
+  int every = 1;          // segment every Nth frame of each camera (emulates a slow model)
   // Hold each result this long before publishing (a late model); the worker goes on with the
   // next frame meanwhile.
   std::chrono::milliseconds delay{0};
@@ -38,7 +38,7 @@ struct SegmenterOptions {
 
 struct SegmenterStats {
   uint64_t received = 0;      // frames seen on the topic
-  uint64_t not_selected = 0;  // left out by `every`
+  uint64_t not_selected = 0;  // left out by camera_id or `every`
   uint64_t skipped = 0;       // replaced by a newer frame before the worker got to them
   uint64_t segmented = 0;     // the function succeeded
   uint64_t published = 0;

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <opencv2/core/mat.hpp>
 
 #include "semfuse/core/legend.hpp"
@@ -101,19 +102,37 @@ struct RegionSummary {
   double occupancy = 0.0;
 };
 
-// objects: connected labeled surfaces.
+// objects: the object instances of the map (server/objects/README.md): whole objects with ids that
+// stay with them while the map grows.
 struct ObjectsRequest {
-  LabelId label = kUnlabeled;  // kUnlabeled = objects of every label
-  uint32_t min_voxels = 0;
+  LabelId label = kUnlabeled;           // kUnlabeled = objects of every label
+  uint32_t min_voxels = 0;              // leave out objects of fewer surface voxels
+  std::optional<Eigen::Vector3d> near;  // only objects whose surface comes within radius of this point
+  double radius = 0.0;                  // metres, with near
+  bool include_fragments = false;       // also the pieces too small to be objects
+};
+// A frame of a camera, as the frames topic names it.
+struct FrameRef {
+  std::string camera_id;
+  uint64_t seq = 0;
 };
 struct ObjectInstance {
   uint32_t id = 0;
   LabelId label = kUnlabeled;
-  Eigen::Vector3d bbox_min = Eigen::Vector3d::Zero();
+  Eigen::Vector3d bbox_min = Eigen::Vector3d::Zero();  // axis-aligned
   Eigen::Vector3d bbox_max = Eigen::Vector3d::Zero();
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-  uint64_t voxel_count = 0;
+  uint64_t voxel_count = 0;  // surface voxels
   float mean_confidence = 0.0F;
+  double area_m2 = 0.0;  // of its surface
+  // The oriented box: upright around the up axis when the server knows it, else principal axes.
+  Eigen::Vector3d box_center = Eigen::Vector3d::Zero();
+  Eigen::Vector3d box_half_extents = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond box_rotation = Eigen::Quaterniond::Identity();  // box axes to world
+  bool fragment = false;
+  // Frames that saw it, most of its surface first (at most 16), and how many did in all.
+  std::vector<FrameRef> frames;
+  uint32_t frame_count = 0;
 };
 
 // mesh: a PLY of the map, fetched in chunks. The first request has mesh_id 0 and chunk_index 0;
@@ -122,6 +141,7 @@ struct MeshRequest {
   std::optional<Box> box;  // only the part of the map inside it
   uint64_t mesh_id = 0;
   uint32_t chunk_index = 0;
+  uint32_t object_id = 0;  // only this object's surface (objects); 0 = the map
 };
 struct MeshChunk {
   uint64_t mesh_id = 0;

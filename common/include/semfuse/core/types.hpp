@@ -52,6 +52,9 @@ struct Frame {
 
 // Per-pixel labels for one frame, after decoding.
 //  labels: CV_16UC1, 0 = unlabeled. confidence: CV_32FC1 in [0, 1], same size as labels.
+//  instances: CV_16UC1 of the labels' size from a panoptic segmenter, the object instance of each
+//  pixel (0 = none; the ids are the segmenter's own and need not agree from frame to frame);
+//  empty from a segmenter that gives classes only.
 //  The size may be smaller than the frame's; consumers upsample nearest-neighbour.
 struct Segmentation {
   std::string camera_id;
@@ -60,6 +63,7 @@ struct Segmentation {
   Stamp stamp;
   cv::Mat labels;
   cv::Mat confidence;
+  cv::Mat instances;
 };
 
 // What the server did with a frame's pose (values as TrackedPose_Constants on the wire).

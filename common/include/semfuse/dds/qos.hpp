@@ -56,6 +56,7 @@ Qos sensorData();  // best-effort, keep-last 5, volatile: ROS 2 sensor-data prof
 // kMaxBlockingTime on it, on its own thread.
 Qos mapUpdates();
 Qos mapCloud();  // reliable, transient-local, keep-last 1: a late RViz gets the surface at once
+Qos occupancy();   // reliable, transient-local, keep-last 1: as a ROS 2 map server's /map
 
 }  // namespace qos
 }  // namespace semfuse::dds

@@ -14,6 +14,7 @@ inline constexpr const char* kLabels = "rt/semfuse/labels";
 inline constexpr const char* kMapUpdates = "rt/semfuse/map_updates";  // semfuse MapUpdate
 inline constexpr const char* kMapMarkers = "rt/semfuse/map_markers";  // visualization_msgs/MarkerArray
 inline constexpr const char* kMapCloud = "rt/semfuse/map_cloud";      // sensor_msgs/PointCloud2
+inline constexpr const char* kOccupancy = "rt/semfuse/occupancy";  // nav_msgs/OccupancyGrid
 
 struct ServiceTopics {
   std::string request;
@@ -33,5 +34,10 @@ inline ServiceTopics objects() { return service("objects"); }
 inline ServiceTopics mesh() { return service("mesh"); }
 inline ServiceTopics admin() { return service("admin"); }
 inline ServiceTopics mapBlocks() { return service("map_blocks"); }
+inline ServiceTopics distance() { return service("distance"); }
+inline ServiceTopics occupancySlice() { return service("occupancy_slice"); }
+inline ServiceTopics semanticDistance() { return service("semantic_distance"); }
+inline ServiceTopics semanticSlice() { return service("semantic_slice"); }
+inline ServiceTopics segmentCheck() { return service("segment_check"); }
 
 }  // namespace semfuse::dds::topics

@@ -7,6 +7,7 @@
 #include "builtin_interfaces.h"
 #include "geometry_msgs.h"
 #include "msg.h"
+#include "nav_msgs.h"
 #include "sensor_msgs.h"
 #include "srv.h"
 #include "std_msgs.h"
@@ -42,6 +43,8 @@ SEMFUSE_DDS_TYPE_SUPPORT(sensor_msgs_msg_dds__PointField_)
 SEMFUSE_DDS_TYPE_SUPPORT(sensor_msgs_msg_dds__PointCloud2_)
 SEMFUSE_DDS_TYPE_SUPPORT(visualization_msgs_msg_dds__Marker_)
 SEMFUSE_DDS_TYPE_SUPPORT(visualization_msgs_msg_dds__MarkerArray_)
+SEMFUSE_DDS_TYPE_SUPPORT(nav_msgs_msg_dds__MapMetaData_)
+SEMFUSE_DDS_TYPE_SUPPORT(nav_msgs_msg_dds__OccupancyGrid_)
 // semfuse messages
 SEMFUSE_DDS_TYPE_SUPPORT(semfuse_msg_dds__CameraIntrinsics_)
 SEMFUSE_DDS_TYPE_SUPPORT(semfuse_msg_dds__Frame_)
@@ -58,6 +61,10 @@ SEMFUSE_DDS_TYPE_SUPPORT(semfuse_msg_dds__LabelCount_)
 SEMFUSE_DDS_TYPE_SUPPORT(semfuse_msg_dds__ObjectInstance_)
 SEMFUSE_DDS_TYPE_SUPPORT(semfuse_msg_dds__MeshBlock_)
 SEMFUSE_DDS_TYPE_SUPPORT(semfuse_msg_dds__MapUpdate_)
+SEMFUSE_DDS_TYPE_SUPPORT(semfuse_msg_dds__DistanceSample_)
+SEMFUSE_DDS_TYPE_SUPPORT(semfuse_msg_dds__SemanticSample_)
+SEMFUSE_DDS_TYPE_SUPPORT(semfuse_msg_dds__Segment_)
+SEMFUSE_DDS_TYPE_SUPPORT(semfuse_msg_dds__SegmentResult_)
 // semfuse services
 SEMFUSE_DDS_TYPE_SUPPORT(semfuse_srv_dds__Raycast_Request_)
 SEMFUSE_DDS_TYPE_SUPPORT(semfuse_srv_dds__Raycast_Response_)
@@ -73,6 +80,16 @@ SEMFUSE_DDS_TYPE_SUPPORT(semfuse_srv_dds__Admin_Request_)
 SEMFUSE_DDS_TYPE_SUPPORT(semfuse_srv_dds__Admin_Response_)
 SEMFUSE_DDS_TYPE_SUPPORT(semfuse_srv_dds__MapBlocks_Request_)
 SEMFUSE_DDS_TYPE_SUPPORT(semfuse_srv_dds__MapBlocks_Response_)
+SEMFUSE_DDS_TYPE_SUPPORT(semfuse_srv_dds__Distance_Request_)
+SEMFUSE_DDS_TYPE_SUPPORT(semfuse_srv_dds__Distance_Response_)
+SEMFUSE_DDS_TYPE_SUPPORT(semfuse_srv_dds__OccupancySlice_Request_)
+SEMFUSE_DDS_TYPE_SUPPORT(semfuse_srv_dds__OccupancySlice_Response_)
+SEMFUSE_DDS_TYPE_SUPPORT(semfuse_srv_dds__SemanticDistance_Request_)
+SEMFUSE_DDS_TYPE_SUPPORT(semfuse_srv_dds__SemanticDistance_Response_)
+SEMFUSE_DDS_TYPE_SUPPORT(semfuse_srv_dds__SemanticSlice_Request_)
+SEMFUSE_DDS_TYPE_SUPPORT(semfuse_srv_dds__SemanticSlice_Response_)
+SEMFUSE_DDS_TYPE_SUPPORT(semfuse_srv_dds__SegmentCheck_Request_)
+SEMFUSE_DDS_TYPE_SUPPORT(semfuse_srv_dds__SegmentCheck_Response_)
 
 #undef SEMFUSE_DDS_TYPE_SUPPORT
 

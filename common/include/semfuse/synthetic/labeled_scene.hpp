@@ -25,6 +25,9 @@ struct SceneObject {
   LabelId label = kUnlabeled;
   Rgb color{128, 128, 128};
   Texture texture = Texture::kNoise;
+  // The object this solid is part of, as a person would point at it: a table's top and legs
+  // share one instance. 0 = a new instance of its own (add() numbers it).
+  uint32_t instance = 0;
 };
 
 struct SurfaceHit {
@@ -45,7 +48,10 @@ class LabeledScene {
   // texture_seed varies the noise textures only; geometry and labels never depend on it.
   explicit LabeledScene(uint64_t texture_seed = 0) : texture_seed_(texture_seed) {}
 
+  // Returns the solid's index in objects(); an instance of 0 becomes the next unused instance id.
   std::size_t add(SceneObject object);
+  // The instance of objects()[index] (>= 1).
+  uint32_t instanceOf(std::size_t index) const { return objects_[index].instance; }
   const std::vector<SceneObject>& objects() const { return objects_; }
 
   // Nearest entry into any solid with t > t_min.
@@ -62,6 +68,7 @@ class LabeledScene {
   std::vector<SceneObject> objects_;
   std::vector<Aabb> bounds_;
   uint64_t texture_seed_;
+  uint32_t next_instance_ = 1;
 };
 
 }  // namespace semfuse::synthetic

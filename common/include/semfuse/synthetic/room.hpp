@@ -1,6 +1,8 @@
 #pragma once
 // The built-in procedural room: floor, four walls, optional ceiling, a table, two chairs, boxes,
 // spheres and a cabinet. World frame: z up, floor at z = 0, room centred on the origin.
+// Every solid knows its object instance (SceneObject::instance): the table's top and legs are one,
+// each chair's seat, back and legs are one, the four walls are one; every other solid is its own.
 #include <cstdint>
 
 #include "semfuse/core/legend.hpp"

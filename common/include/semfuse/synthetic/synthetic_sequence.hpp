@@ -25,6 +25,8 @@ struct SequenceConfig {
   double frame_rate_hz = 30.0;
   std::string camera_id = "synthetic";
   std::string segmenter_id = "ground-truth";
+  // The ground truth is panoptic: it carries each pixel's object instance (the room's own ids).
+  bool instances = false;
 };
 
 class SyntheticSequence {
@@ -41,7 +43,8 @@ class SyntheticSequence {
   // Frame `index`: depth (noisy if configured), colour, intrinsics, stamp, seq = index, and the
   // true camera_to_world pose when with_pose (a tracker test drops it).
   Result<Frame> frame(int index, bool with_pose = true) const;
-  // Ground-truth labels of frame `index` with confidence 1 wherever a label is present.
+  // Ground-truth labels of frame `index` with confidence 1 wherever a label is present, and the
+  // instance map when the config asks for it.
   Result<Segmentation> groundTruth(int index) const;
   // Both from one rendering (rendering dominates the cost).
   Result<std::pair<Frame, Segmentation>> frameWithGroundTruth(int index, bool with_pose = true) const;

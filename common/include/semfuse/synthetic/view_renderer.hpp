@@ -12,10 +12,11 @@ namespace semfuse::synthetic {
 struct RenderedView {
   PinholeIntrinsics intrinsics;
   Pose camera_to_world = Pose::Identity();
-  cv::Mat depth;    // CV_32FC1, metres along the camera z axis; 0 where the ray hits nothing
-  cv::Mat color;    // CV_8UC3, RGB; black where nothing is hit
-  cv::Mat labels;   // CV_16UC1, 0 where nothing is hit
-  cv::Mat normals;  // CV_32FC3, unit outward surface normal in WORLD coordinates; 0 where no hit
+  cv::Mat depth;      // CV_32FC1, metres along the camera z axis; 0 where the ray hits nothing
+  cv::Mat color;      // CV_8UC3, RGB; black where nothing is hit
+  cv::Mat labels;     // CV_16UC1, 0 where nothing is hit
+  cv::Mat normals;    // CV_32FC3, unit outward surface normal in WORLD coordinates; 0 where no hit
+  cv::Mat instances;  // CV_16UC1, the object instance hit (SceneObject::instance), 0 where no hit
 };
 
 // The world-frame ray through the centre of pixel (u, v), scaled so that t = camera depth.

@@ -16,6 +16,7 @@
 #include <Eigen/Core>
 
 #include "semfuse/core/result.hpp"
+#include "semfuse/volume/instance_evidence.hpp"
 #include "semfuse/volume/volume_params.hpp"
 #include "semfuse/volume/voxel.hpp"
 
@@ -62,7 +63,10 @@ class LabeledVolume {
   std::size_t geometryMemoryBytes() const { return geometry_->memUsage(); }
   std::size_t colorMemoryBytes() const { return color_ ? color_->memUsage() : 0; }
   std::size_t labelSidecarMemoryBytes() const { return label_sidecar_ ? label_sidecar_->memUsage() : 0; }
-  std::size_t memoryBytes() const { return geometryMemoryBytes() + colorMemoryBytes() + labelSidecarMemoryBytes(); }
+  std::size_t instanceMemoryBytes() const { return instances_ ? instances_->memUsage() : 0; }
+  std::size_t memoryBytes() const {
+    return geometryMemoryBytes() + colorMemoryBytes() + labelSidecarMemoryBytes() + instanceMemoryBytes();
+  }
 
   // Clears the map: every leaf counts as changed from here on (changesSince says `all`).
   void clear();
@@ -81,6 +85,17 @@ class LabeledVolume {
   GeometryGrid& mutableGeometryGrid() { return *geometry_; }
   ColorGrid* mutableColorGrid() { return color_.get(); }
   LabelSidecarGrid* mutableLabelSidecarGrid() { return label_sidecar_.get(); }
+
+  // Panoptic instance evidence (instance_evidence.hpp): null until the first instance map is
+  // fused, so a map fused from class-only segmenters carries none. Its leaves are a subset of the
+  // geometry's. The next instance id is the one integrateInstances() gives a segment it cannot
+  // match to one the map knows.
+  const InstanceGrid* instanceGrid() const { return instances_.get(); }
+  InstanceGrid::ConstPtr instanceGridPtr() const { return instances_; }
+  InstanceGrid& mutableInstanceGrid();  // creates it when missing
+  void setInstanceGrid(InstanceGrid::Ptr grid);
+  uint32_t nextInstanceId() const { return next_instance_id_; }
+  void setNextInstanceId(uint32_t id) { next_instance_id_ = id; }
 
   // Observed free space (free_space.hpp): the voxels a camera saw through, in front of its
   // depth's truncation band (wholly free leaves as level-1 tiles). A voxel is observed when the
@@ -118,6 +133,8 @@ class LabeledVolume {
   GeometryGrid::Ptr geometry_;
   ColorGrid::Ptr color_;
   LabelSidecarGrid::Ptr label_sidecar_;
+  InstanceGrid::Ptr instances_;
+  uint32_t next_instance_id_ = 1;
   FreeSpaceGrid::Ptr free_space_;
   uint64_t frames_integrated_ = 0;
   // Leaf key (origin / 8) -> revision of the leaf's last change. A pointer: OpenVDB trees are not

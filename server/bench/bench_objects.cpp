@@ -1,0 +1,115 @@
+// semfuse-bench objects: the time of one objects query (labeled surface, grouping, ids, figures:
+// what the server's objects service does on a new snapshot) on the synthetic room fused with its
+// ground-truth labels, or on a saved map (--map: a server's map file, e.g. the 7-Scenes demo's,
+// with its own legend) (target: <= 100 ms). The map is built or loaded once, untimed. Each timed run hands
+// the tracker a fresh copy of the map, so every run regroups; the surface extraction alone, timed
+// in the same run, is the floor under the query's cost.
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "bench_registry.hpp"
+#include "bench_support.hpp"
+#include "semfuse/core/legend.hpp"
+#include "semfuse/objects/object_tracker.hpp"
+#include "semfuse/objects/surface_voxels.hpp"
+#include "semfuse/synthetic/synthetic_sequence.hpp"
+#include "semfuse/volume/integrator.hpp"
+#include "semfuse/volume/map_file.hpp"
+
+namespace semfuse::bench {
+namespace {
+
+struct ObjectsBenchOptions {
+  std::string map;  // a saved map instead of the synthetic room
+  int frames = 300;
+  double scale = 0.5;  // of the 640x480 camera
+  double voxel = 0.02;
+  std::size_t repeats = 10;
+};
+
+// The synthetic room fused with its ground-truth labels.
+Result<volume::LabeledVolume> buildRoom(const ObjectsBenchOptions& o) {
+  synthetic::SequenceConfig config;
+  config.intrinsics = config.intrinsics.scaled(o.scale);
+  config.trajectory.frame_count = o.frames;
+  synthetic::SyntheticSequence sequence(config);
+  volume::VolumeParams params;
+  params.voxel_size = o.voxel;
+  params.truncation = 4 * o.voxel;
+  params.integrate_color = false;
+  auto created = volume::LabeledVolume::create(params);
+  if (!created) return makeError(created.error());
+  volume::LabeledVolume map = std::move(created).value();
+  for (int i = 0; i < o.frames; ++i) {
+    auto both = sequence.frameWithGroundTruth(i);
+    if (!both) return makeError("frame " + std::to_string(i) + ": " + both.error());
+    const auto& [frame, labels] = both.value();
+    auto stats = volume::integrate(map, frame.depth, cv::Mat(), labels.labels, labels.confidence, frame.intrinsics,
+                                   sequence.pose(i));
+    if (!stats) return makeError("frame " + std::to_string(i) + ": " + stats.error());
+  }
+  return map;
+}
+
+int runObjectsBench(const ObjectsBenchOptions& o) {
+  volume::LabeledVolume map;
+  LabelLegend legend = *builtinLegend("synthetic");
+  std::string what = "synthetic room (" + std::to_string(o.frames) + " frames)";
+  if (!o.map.empty()) {
+    auto loaded = volume::loadMap(o.map);
+    if (!loaded) {
+      std::fprintf(stderr, "semfuse-bench objects: %s\n", loaded.error().c_str());
+      return 1;
+    }
+    map = std::move(loaded.value().volume);
+    legend = loaded.value().legend;
+    what = o.map;
+  } else {
+    auto built = buildRoom(o);
+    if (!built) {
+      std::fprintf(stderr, "semfuse-bench objects: %s\n", built.error().c_str());
+      return 1;
+    }
+    map = std::move(built).value();
+  }
+  // As the server's: up from the floor where the legend has one and the map enough of it.
+  objects::ObjectParams params;
+  params.up_from_floor = true;
+  objects::ObjectTracker tracker(params, legend, map.voxelSize());
+  Timings query, surface_only;
+  std::size_t surface_voxels = 0, objects = 0, fragments = 0;
+  for (std::size_t r = 0; r < o.repeats; ++r) {
+    auto snapshot = std::make_shared<const volume::LabeledVolume>(map.deepCopy());  // untimed
+    Stopwatch surface_watch;
+    surface_voxels = objects::extractSurface(*snapshot, legend).size();
+    surface_only.add(surface_watch.elapsedMs());
+    Stopwatch watch;
+    const auto set = tracker.objectsOf(snapshot);
+    query.add(watch.elapsedMs());
+    objects = fragments = 0;
+    for (const auto& object : set->objects) (object.fragment ? fragments : objects) += 1;
+  }
+  Table table("objects query, " + what + ", " + formatNumber(map.voxelSize() * 100, 0) + " cm voxels");
+  table.add("surface voxels", std::to_string(surface_voxels));
+  table.add("objects / fragments", std::to_string(objects) + " / " + std::to_string(fragments));
+  table.addMs("surface extraction alone", surface_only);
+  table.addMs("objects query (surface, grouping, ids, figures)", query, "target <= 100 ms");
+  table.add("query / surface extraction", formatNumber(query.median() / surface_only.median(), 1) + "x");
+  table.add("load average", formatNumber(loadAverage(), 2));
+  table.print();
+  return 0;
+}
+
+const bool registered = registerBench("objects", "objects query time on the synthetic room", [](CLI::App& command) {
+  auto options = std::make_shared<ObjectsBenchOptions>();
+  command.add_option("--map", options->map, "a saved map file instead of the synthetic room (its legend is used)");
+  command.add_option("--frames", options->frames, "synthetic frames to fuse")->capture_default_str();
+  command.add_option("--scale", options->scale, "image scale of 640x480")->capture_default_str();
+  command.add_option("--voxel", options->voxel, "voxel size, metres")->capture_default_str();
+  command.add_option("--repeats", options->repeats, "timed queries")->capture_default_str();
+  return [options] { return runObjectsBench(*options); };
+});
+
+}  // namespace
+}  // namespace semfuse::bench

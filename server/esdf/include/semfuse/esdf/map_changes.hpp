@@ -1,0 +1,45 @@
+#pragma once
+// What the distance field needs from the map for the leaves that changed: a copy of each changed
+// geometry leaf (packed voxels and active mask) and which of its voxels are observed free space.
+// Taking the copy is the only part that reads the map, so a server holds the map's lock for the
+// copy alone (a few hundred microseconds per frame) and updates the distance field without it.
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <openvdb/openvdb.h>
+
+#include "semfuse/volume/labeled_volume.hpp"
+
+namespace semfuse::esdf {
+
+struct ChangedLeaf {
+  openvdb::Coord origin;
+  bool has_geometry = false;  // the map holds a geometry leaf here
+  // Per voxel, index = OpenVDB leaf offset: the packed TSDF voxel, whether the TSDF observed it,
+  // whether it lies in observed free space.
+  std::array<volume::PackedVoxel, volume::LabeledVolume::kLeafVoxels> voxels{};
+  std::array<bool, volume::LabeledVolume::kLeafVoxels> observed{};
+  std::array<bool, volume::LabeledVolume::kLeafVoxels> observed_free{};
+  // The TSDF of the voxels just outside the leaf's 6 faces (NaN where unobserved), for the sign
+  // changes across them: face f = 2 * axis + (0 for the minimum side, 1 for the maximum), then
+  // the other two local coordinates in axis order (haloIndex).
+  std::array<float, 6 * 64> halo{};
+
+  static int haloIndex(int axis, bool max_side, int a, int b) {
+    return (2 * axis + (max_side ? 1 : 0)) * 64 + a * 8 + b;
+  }
+};
+
+struct MapChanges {
+  uint64_t revision = 0;  // the map's revision the changes bring the distance field up to
+  bool all = false;       // the map was cleared or replaced: rebuild from these leaves alone
+  double voxel_size = 0.0;
+  std::vector<ChangedLeaf> leaves;
+};
+
+// The leaves changed since `revision` (LabeledVolume::changesSince), copied. Run it under the
+// map's read lock; parallel over leaves.
+MapChanges copyChanges(const volume::LabeledVolume& map, uint64_t revision);
+
+}  // namespace semfuse::esdf

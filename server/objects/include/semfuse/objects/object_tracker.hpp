@@ -1,0 +1,83 @@
+#pragma once
+// ObjectTracker: the map's objects as the server keeps them. Given a snapshot of the map it
+// extracts the labeled surface, groups it (grouping.hpp), matches the groups to the objects of
+// the last update (object_registry.hpp), measures them (object_figures.hpp) and finds the frames
+// that saw them (view_index.hpp); the same snapshot again costs nothing. Every update that
+// changes something is numbered and its events go to the listener. Thread-safe: one update at a
+// time, answers shared between callers.
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <vector>
+
+#include <openvdb/openvdb.h>
+#include <Eigen/Core>
+
+#include "semfuse/core/legend.hpp"
+#include "semfuse/core/object_events.hpp"
+#include "semfuse/core/service_types.hpp"
+#include "semfuse/objects/object_figures.hpp"
+#include "semfuse/objects/object_params.hpp"
+#include "semfuse/objects/object_registry.hpp"
+#include "semfuse/objects/view_index.hpp"
+#include "semfuse/volume/labeled_volume.hpp"
+
+namespace semfuse::objects {
+
+struct TrackedObject {
+  uint32_t id = 0;
+  LabelId label = kUnlabeled;
+  bool fragment = false;
+  uint32_t instance = 0;  // the panoptic instance most of it carries, 0 = none
+  ObjectFigures figures;
+  std::vector<FrameRef> frames;  // most of its surface first
+  uint32_t frame_count = 0;
+};
+
+// The objects of one snapshot of the map.
+struct ObjectSet {
+  std::vector<TrackedObject> objects;             // objects largest first, then fragments
+  std::shared_ptr<const openvdb::Int32Tree> ids;  // object id of every surface voxel
+  Eigen::Vector3d up = Eigen::Vector3d::Zero();   // the up the grouping used (zero: unknown)
+  uint64_t update = 0;                            // the update that made it
+  const TrackedObject* find(uint32_t id) const;
+};
+
+// The area-weighted mean normal of the surface labeled with a class named "floor" in the legend,
+// when there is at least 0.25 m^2 of it and its normals agree (mean length >= 0.7).
+std::optional<Eigen::Vector3d> upFromFloor(const SurfaceVoxels& surface, const LabelLegend& legend);
+
+class ObjectTracker {
+ public:
+  static constexpr std::size_t kFramesPerObject = 16;
+
+  ObjectTracker(ObjectParams params, LabelLegend legend, double voxel_size);
+
+  // The objects of `map`; regroups only when `map` is not the snapshot of the last call.
+  std::shared_ptr<const ObjectSet> objectsOf(const std::shared_ptr<const volume::LabeledVolume>& map);
+
+  // Called with the events of every update that has any, under the update's lock (so in order).
+  void setListener(std::function<void(const ObjectEvents&)> listener);
+
+  // Frames, as the fusion thread fuses them (view_index.hpp).
+  void recordView(const Frame& frame, const Pose& camera_to_world, float min_depth, float max_depth);
+  // The map was reset or replaced: the frames that saw it are gone.
+  void forgetViews() { views_.clear(); }
+
+  const ObjectParams& params() const { return params_; }
+
+ private:
+  ObjectParams params_;
+  LabelLegend legend_;
+  ViewIndex views_;
+  std::mutex mutex_;  // one update at a time; guards the members below
+  ObjectRegistry registry_;
+  std::weak_ptr<const volume::LabeledVolume> last_map_;
+  std::shared_ptr<const ObjectSet> last_;
+  uint64_t updates_ = 0;
+  std::function<void(const ObjectEvents&)> listener_;
+};
+
+}  // namespace semfuse::objects

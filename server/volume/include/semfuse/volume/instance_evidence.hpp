@@ -1,0 +1,27 @@
+#pragma once
+// Panoptic instance evidence: which object instance a voxel belongs to, from segmenters that give
+// an instance map beside their labels. One 32-bit value per voxel in an Int32Grid whose leaves are
+// a subset of the geometry's (allocated where instance maps were fused): the map-wide instance id
+// in the low 24 bits, the evidence for it in the high 8 (observations that agreed, less those that
+// named another instance; the id changes when it reaches zero, as Algorithm 1 does for labels).
+// All-zero is no evidence. A segmenter's instance ids are its own and may change from frame to
+// frame; integrateInstances() (instance_integration.hpp) matches them to the map's ids by overlap.
+#include <cstdint>
+
+#include <openvdb/openvdb.h>
+
+namespace semfuse::volume {
+
+using InstanceGrid = openvdb::Int32Grid;
+using PackedInstance = openvdb::Int32;
+
+inline constexpr uint32_t kMaxInstanceId = (1u << 24) - 1;
+inline constexpr uint32_t kMaxInstanceEvidence = 255;
+
+inline PackedInstance packInstance(uint32_t id, uint32_t evidence) {
+  return static_cast<PackedInstance>((evidence << 24) | (id & kMaxInstanceId));
+}
+inline uint32_t instanceIdOf(PackedInstance packed) { return static_cast<uint32_t>(packed) & kMaxInstanceId; }
+inline uint32_t instanceEvidenceOf(PackedInstance packed) { return static_cast<uint32_t>(packed) >> 24; }
+
+}  // namespace semfuse::volume

@@ -1,0 +1,186 @@
+// The distance field's handlers (server/core/src/distance_handlers.*) on a Mapper fed the
+// synthetic room, with its DistanceField thread keeping up: what each answers and what it
+// refuses, with which code and message; and the field following a reset and a load.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "distance_field.hpp"
+#include "distance_handlers.hpp"
+#include "mapper.hpp"
+#include "semfuse/core/legend.hpp"
+#include "semfuse/synthetic/synthetic_sequence.hpp"
+
+namespace semfuse::server {
+namespace {
+
+using namespace std::chrono_literals;
+constexpr double kVoxel = 0.05;
+
+MapperOptions roomOptions() {
+  MapperOptions options;
+  options.volume.voxel_size = kVoxel;
+  options.volume.truncation = 2 * kVoxel;
+  options.volume.integrate_color = false;
+  options.volume.label_rule = volume::LabelRule::kEvidence;
+  options.legend = *builtinLegend("synthetic");
+  options.observe_free_space = true;
+  return options;
+}
+
+// The room seen along a 24-frame orbit with ground-truth labels, and its field.
+struct Room {
+  Mapper mapper{roomOptions()};
+  std::unique_ptr<DistanceField> field;
+  Room() {
+    esdf::EsdfParams params;
+    params.max_distance = 1.0;
+    field = std::make_unique<DistanceField>(mapper, kVoxel, params);
+    mapper.setChangeListener([this] { field->notify(); });
+    field->start();
+    synthetic::SequenceConfig config;
+    config.intrinsics = config.intrinsics.scaled(0.5);
+    config.trajectory.frame_count = 24;
+    synthetic::SyntheticSequence sequence(config);
+    for (int i = 0; i < config.trajectory.frame_count; ++i) {
+      auto both = sequence.frameWithGroundTruth(i);
+      EXPECT_TRUE(both.ok());
+      auto outcome = mapper.integrateFrame(both.value().first, &both.value().second);
+      EXPECT_TRUE(outcome.ok() && outcome.value().integrated);
+    }
+    EXPECT_TRUE(field->waitUntilCurrent(30s));
+  }
+};
+
+Room& room() {
+  static Room instance;
+  return instance;
+}
+
+DistanceQueryContext context(const DistanceField* field = &*room().field) {
+  DistanceQueryContext c;
+  c.field = field;
+  c.legend = &room().mapper.legend();
+  c.limits.max_points = 4;
+  c.max_slice_cells = 200 * 200;
+  return c;
+}
+
+TEST(DistanceHandlers, DistanceAndGradientAboveTheTable) {
+  auto reply = handleDistance({{{0.0, 0.3, 1.0}, {0.0, 0.0, 9.0}}}, context());
+  ASSERT_TRUE(reply.ok()) << reply.message;
+  ASSERT_EQ(reply.value.size(), 2u);
+  EXPECT_TRUE(reply.value[0].known);
+  EXPECT_NEAR(reply.value[0].distance, 0.25, 1.5 * kVoxel);
+  EXPECT_GT(reply.value[0].gradient.z(), 0.8f);
+  EXPECT_FALSE(reply.value[1].known);  // above the ceiling: nobody saw it
+}
+
+TEST(DistanceHandlers, OccupancySliceOfTheRoom) {
+  OccupancySliceRequest request;
+  request.z_min = 0.15;
+  request.z_max = 0.6;
+  request.use_bounds = true;
+  request.min = {-2.5, -2.0};
+  request.max = {2.5, 2.0};
+  request.inflation_radius = 0.1;
+  auto reply = handleOccupancySlice(request, context());
+  ASSERT_TRUE(reply.ok()) << reply.message;
+  const OccupancyGrid& grid = reply.value;
+  EXPECT_EQ(grid.width, 101u);
+  EXPECT_EQ(grid.height, 81u);
+  EXPECT_EQ(grid.frame_id, "map");
+  EXPECT_DOUBLE_EQ(grid.z, 0.375);
+  auto cell = [&](double x, double y) {
+    return grid.cells[static_cast<std::size_t>(std::floor((y - grid.origin.y()) / kVoxel)) * grid.width +
+                      static_cast<std::size_t>(std::floor((x - grid.origin.x()) / kVoxel))];
+  };
+  EXPECT_EQ(cell(-2.5, 0.0), kOccupancyOccupied);   // the -x wall
+  EXPECT_EQ(cell(1.4, -1.45), kOccupancyOccupied);  // a box
+  EXPECT_EQ(cell(-1.6, -0.6), kOccupancyFree);
+}
+
+TEST(DistanceHandlers, SemanticDistanceToTheTableByLabel) {
+  auto reply = handleSemanticDistance({{4}, {{0.2, 0.1, 1.25}}}, context());  // label 4 = table
+  ASSERT_TRUE(reply.ok()) << reply.message;
+  ASSERT_TRUE(reply.value[0].found);
+  EXPECT_EQ(reply.value[0].label, 4);
+  EXPECT_NEAR(reply.value[0].distance, 0.5, 1.5 * kVoxel);
+  EXPECT_LT(reply.value[0].direction.z(), -0.9f);
+  auto slice = handleSemanticSlice({{4}, 1.25, {-1.0, -1.0}, {1.0, 1.0}, 0.1}, context());
+  ASSERT_TRUE(slice.ok()) << slice.message;
+  EXPECT_EQ(slice.value.distance.size(), cv::Size(20, 20));
+  EXPECT_NEAR(slice.value.distance.at<float>(11, 12), 0.5, 1.5 * kVoxel);  // centre (0.25, 0.15)
+}
+
+TEST(DistanceHandlers, SegmentCheckThroughTheTableTop) {
+  auto reply = handleSegmentCheck({{{{0.2, -0.6, 1.0}, {0.2, 0.8, 0.5}}, {{-1.6, -1.0, 1.0}, {-1.6, 0.5, 1.0}}}, 0.0},
+                                  context());
+  ASSERT_TRUE(reply.ok()) << reply.message;
+  EXPECT_EQ(reply.value[0].status, SegmentStatus::kCollision);
+  EXPECT_EQ(reply.value[1].status, SegmentStatus::kFree);
+}
+
+TEST(DistanceHandlers, BadRequestsAreRefusedWithAReason) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  auto expectRefused = [](const auto& reply, ReplyCode code, const std::string& words) {
+    EXPECT_EQ(reply.code, code) << reply.message;
+    EXPECT_NE(reply.message.find(words), std::string::npos) << reply.message;
+  };
+  expectRefused(handleDistance({{{0, nan, 0}}}, context()), ReplyCode::kInvalidArgument, "point 0 is not finite");
+  expectRefused(handleDistance({}, context()), ReplyCode::kInvalidArgument, "no points");
+  expectRefused(handleDistance({std::vector<Eigen::Vector3d>(5, Eigen::Vector3d::Zero())}, context()),
+                ReplyCode::kTooLarge, "5 points exceed the limit of 4");
+  OccupancySliceRequest inverted;
+  inverted.z_min = 1.0;
+  inverted.z_max = 0.5;
+  expectRefused(handleOccupancySlice(inverted, context()), ReplyCode::kInvalidArgument, "inverted");
+  OccupancySliceRequest flat;
+  flat.use_bounds = true;
+  flat.min = {0, 0};
+  flat.max = {1, 0};
+  expectRefused(handleOccupancySlice(flat, context()), ReplyCode::kInvalidArgument, "no area");
+  OccupancySliceRequest huge;
+  huge.use_bounds = true;
+  huge.min = {-50, -50};
+  huge.max = {50, 50};
+  expectRefused(handleOccupancySlice(huge, context()), ReplyCode::kTooLarge, "--esdf.max-slice-cells");
+  expectRefused(handleSemanticDistance({{}, {{0, 0, 1}}}, context()), ReplyCode::kInvalidArgument, "no labels");
+  expectRefused(handleSemanticDistance({{900}, {{0, 0, 1}}}, context()), ReplyCode::kInvalidArgument,
+                "label 900 is not in the legend");
+  expectRefused(handleSemanticSlice({{4}, 1.0, {0, 0}, {0, 1}, 0.1}, context()), ReplyCode::kInvalidArgument,
+                "no area");
+  expectRefused(handleSemanticSlice({{4}, 1.0, {0, 0}, {1, 1}, 0.0}, context()), ReplyCode::kInvalidArgument,
+                "resolution");
+  expectRefused(handleSegmentCheck({{{{0, 0, 0}, {0, 0, nan}}}, 0.0}, context()), ReplyCode::kInvalidArgument,
+                "segment 0 is not finite");
+  expectRefused(handleSegmentCheck({{{{0, 0, 0}, {1, 0, 0}}}, -1.0}, context()), ReplyCode::kInvalidArgument, "radius");
+  // Without a field, every service says how to get one.
+  expectRefused(handleDistance({{{0, 0, 1}}}, context(nullptr)), ReplyCode::kUnavailable, "--esdf");
+  expectRefused(handleOccupancySlice({}, context(nullptr)), ReplyCode::kUnavailable, "--esdf");
+}
+
+TEST(DistanceHandlers, TheFieldFollowsAResetAndALoad) {
+  Room& r = room();
+  const auto saved =
+      std::filesystem::temp_directory_path() / ("semfuse_distance_" + std::to_string(::getpid()) + ".vdb");
+  ASSERT_TRUE(r.mapper.save(saved).ok());
+  r.mapper.reset();
+  ASSERT_TRUE(r.field->waitUntilCurrent(30s));
+  EXPECT_EQ(r.field->stats().known_voxels, 0u);
+  EXPECT_FALSE(handleDistance({{{0.0, 0.3, 1.0}}}, context()).value[0].known);
+  ASSERT_TRUE(r.mapper.load(saved).ok());
+  std::filesystem::remove(saved);
+  ASSERT_TRUE(r.field->waitUntilCurrent(30s));
+  auto again = handleDistance({{{0.0, 0.3, 1.0}}}, context());
+  ASSERT_TRUE(again.value[0].known);  // free space came back with the file
+  EXPECT_NEAR(again.value[0].distance, 0.25, 1.5 * kVoxel);
+}
+
+}  // namespace
+}  // namespace semfuse::server
