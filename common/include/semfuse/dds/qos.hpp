@@ -55,8 +55,8 @@ Qos sensorData();  // best-effort, keep-last 5, volatile: ROS 2 sensor-data prof
 // misses updates and asks map_blocks for what it lacks; the server's writer blocks at most
 // kMaxBlockingTime on it, on its own thread.
 Qos mapUpdates();
-Qos mapCloud();  // reliable, transient-local, keep-last 1: a late RViz gets the surface at once
-Qos occupancy();   // reliable, transient-local, keep-last 1: as a ROS 2 map server's /map
+Qos mapCloud();   // reliable, transient-local, keep-last 1: a late RViz gets the surface at once
+Qos occupancy();  // reliable, transient-local, keep-last 1: as a ROS 2 map server's /map
 
 }  // namespace qos
 }  // namespace semfuse::dds
