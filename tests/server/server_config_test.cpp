@@ -191,3 +191,19 @@ TEST_F(ServerConfigTest, TrackingColourWeightComesFromTheFileAndIsRangeChecked) 
   ServerConfig negative;
   EXPECT_THROW(parsedApp(negative, "--track-color-weight -1"), CLI::ParseError);
 }
+
+TEST_F(ServerConfigTest, AnEmptyNumberIsRefusedNotReadAsZero) {
+  // CLI11 turns "" into 0; a tag with no value is an empty scalar in YAML.
+  for (const std::string text : {"voxel-size: \"\"\n", "voxel-size: !0.+5 # 5 cm\n", "queue-per-camera: ''\n"}) {
+    ServerConfig config;
+    const fs::path yaml = write("empty.yaml", text);
+    try {
+      parsedApp(config, "--config " + yaml.string());
+      FAIL() << text << " was accepted: voxel size " << config.volume.voxel_size;
+    } catch (const CLI::ParseError& e) {
+      EXPECT_NE(std::string(e.what()).find("has an empty value"), std::string::npos) << e.what();
+    }
+  }
+  ServerConfig flag;
+  EXPECT_THROW(parsedApp(flag, "--voxel-size \"\""), CLI::ParseError);
+}

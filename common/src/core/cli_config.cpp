@@ -40,6 +40,12 @@ std::string knownKeys(const CLI::App& app) {
   return keys.empty() ? "none" : keys;
 }
 
+bool isNumeric(const CLI::Option& option) {
+  const std::string type = option.get_type_name();  // e.g. "FLOAT", "UINT:POSITIVE", "[INT,INT]"
+  return type.find("INT") != std::string::npos || type.find("FLOAT") != std::string::npos ||
+         type.find("NUMBER") != std::string::npos;
+}
+
 // Turns one YAML leaf (a scalar or a list of scalars) at `path` into a CLI11 config item: leading
 // keys that name subcommands become parents, the rest is joined with '.' into the option name.
 CLI::ConfigItem makeItem(const CLI::App& root, const std::vector<std::string>& path, const YAML::Node& value) {
@@ -56,11 +62,17 @@ CLI::ConfigItem makeItem(const CLI::App& root, const std::vector<std::string>& p
     app = sub;
   }
   item.name = join(path, i, ".");
-  if (findOption(*app, item.name) == nullptr) {
+  const CLI::Option* option = findOption(*app, item.name);
+  if (option == nullptr) {
     throw CLI::ConfigError("config: unknown key '" + join(path, 0, ".") + "'" + lineOf(value) + "; known keys" +
                            (app == &root ? "" : " of '" + app->get_name() + "'") + ": " + knownKeys(*app));
   }
   if (value.IsScalar()) {
+    // CLI11 converts an empty string to a number as 0: `voxel-size: ""` (or a tag with no value)
+    // would set a size of zero behind the options' own checks.
+    if (value.Scalar().empty() && isNumeric(*option)) {
+      throw CLI::ConfigError("config: '" + join(path, 0, ".") + "'" + lineOf(value) + " has an empty value");
+    }
     item.inputs.push_back(value.Scalar());
   } else if (value.IsSequence()) {
     for (const YAML::Node& element : value) {

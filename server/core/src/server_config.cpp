@@ -14,6 +14,8 @@ namespace {
 CLI::Validator rangeCheck(const volume::ParamField& field) {
   return CLI::Validator(
       [field](std::string& input) -> std::string {
+        // CLI11 would read an empty value as 0, past this check.
+        if (input.empty()) return "needs a number";
         char* end = nullptr;
         const double value = std::strtod(input.c_str(), &end);
         if (end == input.c_str()) return std::string();  // not a number: CLI11's conversion says so
