@@ -13,6 +13,7 @@
 namespace semfuse::objects {
 namespace {
 
+using detail::Link;
 using detail::SurfaceLinks;
 using detail::UnionFind;
 
@@ -106,7 +107,7 @@ struct Region {
 class Grouper {
  public:
   Grouper(const SurfaceVoxels& surface, const ObjectParams& params)
-      : surface_(surface), params_(params), links_(surface) {}
+      : surface_(surface), params_(params), links_(SurfaceLinks(surface).all()) {}
 
   Grouping run() {
     findPatches();
@@ -136,20 +137,20 @@ class Grouper {
     const float cos_smooth = static_cast<float>(cosDegrees(params_.smooth_angle_deg));
     const float tolerance = static_cast<float>(params_.concavity_tolerance);
     const auto& offsets = detail::linkOffsets();
-    links_.forEach([&](int32_t p, int32_t q, std::size_t k) {
+    for (const auto& [p, q, k] : links_) {
       const SurfaceVoxel& a = surface_[p];
       const SurfaceVoxel& b = surface_[q];
-      if (a.label != b.label || instancesConflict(a.instance, b.instance)) return;
-      if (a.normal.dot(b.normal) < cos_smooth) return;
+      if (a.label != b.label || instancesConflict(a.instance, b.instance)) continue;
+      if (a.normal.dot(b.normal) < cos_smooth) continue;
       const Eigen::Vector3f& d = offsets[k].direction;
-      if ((b.normal - a.normal).dot(d) < -tolerance || isLedgeStep(a.normal, b.normal, offsets[k].offset)) return;
+      if ((b.normal - a.normal).dot(d) < -tolerance || isLedgeStep(a.normal, b.normal, offsets[k].offset)) continue;
       const int32_t rp = voxels.find(p), rq = voxels.find(q);
-      if (rp == rq) return;
+      if (rp == rq) continue;
       const Eigen::Vector3f sum = normal_sum[rp] + normal_sum[rq];
-      if (normal_sum[rp].dot(normal_sum[rq]) < cos_smooth * normal_sum[rp].norm() * normal_sum[rq].norm()) return;
+      if (normal_sum[rp].dot(normal_sum[rq]) < cos_smooth * normal_sum[rp].norm() * normal_sum[rq].norm()) continue;
       voxels.unite(rp, rq);
       normal_sum[voxels.find(rp)] = sum;
-    });
+    }
     const int32_t count = voxels.compact(patch_of_);
     regions_.assign(count, Region{});
     for (std::size_t i = 0; i < surface_.size(); ++i) {
@@ -163,13 +164,23 @@ class Grouper {
     region_of_ = UnionFind(regions_.size());
   }
 
-  // The steps between different patches, of any label.
+  // The steps between different patches, of any label: summed per pair of patches in link order,
+  // then entered in the patches' neighbour maps in the order the pairs first occur (the maps'
+  // iteration order breaks ties later), as adding each step to the maps directly would.
   void measureBoundaries() {
     const float tolerance = static_cast<float>(params_.concavity_tolerance);
     const auto& offsets = detail::linkOffsets();
-    links_.forEach([&](int32_t p, int32_t q, std::size_t k) {
+    struct Boundary {
+      int32_t low, high;  // patches, low < high
+      Side side;          // seen from `low`
+    };
+    std::vector<Boundary> boundaries;  // in order of first occurrence
+    // Per patch, the boundaries it is the lower patch of: (other patch, index into boundaries).
+    // Patches have a handful of neighbours: a linear search beats hashing.
+    std::vector<std::vector<std::pair<int32_t, int32_t>>> boundaries_of(regions_.size());
+    for (const auto& [p, q, k] : links_) {
       const int32_t a = patch_of_[p], b = patch_of_[q];
-      if (a == b) return;
+      if (a == b) continue;
       Side step;
       step.links = 1;
       const SurfaceVoxel& vp = surface_[p];
@@ -181,9 +192,21 @@ class Grouper {
         step.mine = vp.normal;
         step.theirs = vq.normal;
       }
-      regions_[a].neighbours[b] += step;
-      regions_[b].neighbours[a] += step.flipped();
-    });
+      const int32_t low = std::min(a, b), high = std::max(a, b);
+      if (a != low) step = step.flipped();
+      auto& known = boundaries_of[low];
+      const auto found = std::find_if(known.begin(), known.end(), [&](const auto& b) { return b.first == high; });
+      if (found != known.end()) {
+        boundaries[found->second].side += step;
+      } else {
+        known.emplace_back(high, static_cast<int32_t>(boundaries.size()));
+        boundaries.push_back({low, high, Side{} += step});
+      }
+    }
+    for (const Boundary& boundary : boundaries) {
+      regions_[boundary.low].neighbours.emplace(boundary.high, boundary.side);
+      regions_[boundary.high].neighbours.emplace(boundary.low, boundary.side.flipped());
+    }
   }
 
   // Merges region b into region a; returns the survivor (the one with more neighbours, whose
@@ -365,7 +388,7 @@ class Grouper {
 
   const SurfaceVoxels& surface_;
   const ObjectParams& params_;
-  SurfaceLinks links_;
+  std::vector<Link> links_;        // visited twice: found once
   std::vector<int32_t> patch_of_;  // per surface voxel
   std::vector<Region> regions_;    // per patch; merged ones are not alive
   UnionFind region_of_{0};         // patch -> the region it is part of

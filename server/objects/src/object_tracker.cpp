@@ -46,7 +46,10 @@ std::optional<Eigen::Vector3d> upFromFloor(const SurfaceVoxels& surface, const L
 }
 
 ObjectTracker::ObjectTracker(ObjectParams params, LabelLegend legend, double voxel_size)
-    : params_(std::move(params)), legend_(std::move(legend)), views_(voxel_size) {}
+    : params_(std::move(params)),
+      legend_(std::move(legend)),
+      views_(voxel_size),
+      surface_cache_(legend_, params_.min_instance_evidence) {}
 
 void ObjectTracker::setListener(std::function<void(const ObjectEvents&)> listener) {
   std::lock_guard lock(mutex_);
@@ -62,7 +65,7 @@ std::shared_ptr<const ObjectSet> ObjectTracker::objectsOf(const std::shared_ptr<
   const bool same_map = last_ && !last_map_.owner_before(map) && !map.owner_before(last_map_);
   if (same_map) return last_;
 
-  const SurfaceVoxels surface = extractSurface(*map, legend_, params_.min_instance_evidence);
+  const SurfaceVoxels surface = surface_cache_.update(*map);
   ObjectParams params = params_;
   if (params.up_from_floor)
     if (auto up = upFromFloor(surface, legend_)) params.up = *up;

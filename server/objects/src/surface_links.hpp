@@ -2,12 +2,14 @@
 // Internal: the neighbour pairs ("links") of the surface that grouping and id matching look at:
 // surface voxels within one voxel of each other (the 26-neighbourhood), and two apart along an
 // axis, which bridges a gap of one voxel (a hole, or a voxel of another label).
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
 
 #include <openvdb/openvdb.h>
+#include <tbb/parallel_for.h>
 #include <Eigen/Core>
 
 #include "semfuse/objects/surface_voxels.hpp"
@@ -41,6 +43,12 @@ inline const std::array<LinkOffset, kLinkOffsets>& linkOffsets() {
   }();
   return offsets;
 }
+
+// Surface voxels p and q = p + linkOffsets()[k].
+struct Link {
+  int32_t p, q;
+  uint8_t k;
+};
 
 // Visits the links leaf by leaf, every lookup an array read in the leaf or one of its neighbours.
 class SurfaceLinks {
@@ -90,6 +98,26 @@ class SurfaceLinks {
   template <class Fn>
   void forEach(Fn&& fn) const {
     for (std::size_t i = 0; i < leaves_.size(); ++i) forEachInLeaf(i, fn);
+  }
+
+  // Every link, leaves in parallel, in the order forEach() visits them: for passes that look at
+  // the links more than once.
+  std::vector<Link> all() const {
+    constexpr std::size_t kLeavesPerChunk = 64;
+    const std::size_t chunks = (leaves_.size() + kLeavesPerChunk - 1) / kLeavesPerChunk;
+    std::vector<std::vector<Link>> parts(chunks);
+    tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+      std::vector<Link>& out = parts[c];
+      const std::size_t end = std::min(leaves_.size(), (c + 1) * kLeavesPerChunk);
+      for (std::size_t l = c * kLeavesPerChunk; l < end; ++l)
+        forEachInLeaf(l, [&](int32_t p, int32_t q, std::size_t k) { out.push_back({p, q, static_cast<uint8_t>(k)}); });
+    });
+    std::size_t total = 0;
+    for (const std::vector<Link>& part : parts) total += part.size();
+    std::vector<Link> links;
+    links.reserve(total);
+    for (const std::vector<Link>& part : parts) links.insert(links.end(), part.begin(), part.end());
+    return links;
   }
 
  private:

@@ -140,6 +140,7 @@ Result<InstanceStats> integrateInstances(LabeledVolume& volume, const cv::Mat& d
   std::vector<InstanceLeaf*> evidence_leaves(leaves.size());
   for (std::size_t l = 0; l < leaves.size(); ++l) evidence_leaves[l] = writable.tree().touchLeaf(leaves[l]->origin());
   std::atomic<std::size_t> updated{0};
+  std::vector<uint8_t> leaf_changed(leaves.size(), 0);
   tbb::parallel_for(std::size_t{0}, leaves.size(), [&](std::size_t l) {
     InstanceLeaf& evidence = *evidence_leaves[l];
     std::size_t local = 0;
@@ -156,8 +157,14 @@ Result<InstanceStats> integrateInstances(LabeledVolume& volume, const cv::Mat& d
       ++local;
     });
     updated += local;
+    leaf_changed[l] = local > 0;
   });
   stats.voxels_updated = updated;
+  // A write like any other: consumers of the map's changes (the objects' surface cache) see it.
+  std::vector<openvdb::Coord> changed;
+  for (std::size_t l = 0; l < leaves.size(); ++l)
+    if (leaf_changed[l]) changed.push_back(leaves[l]->origin());
+  if (!changed.empty()) volume.markChanged(changed);
   return stats;
 }
 

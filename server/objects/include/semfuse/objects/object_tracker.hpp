@@ -1,6 +1,7 @@
 #pragma once
 // ObjectTracker: the map's objects as the server keeps them. Given a snapshot of the map it
-// extracts the labeled surface, groups it (grouping.hpp), matches the groups to the objects of
+// extracts the labeled surface (re-scanning only the leaves changed since its last snapshot,
+// surface_cache.hpp), groups it (grouping.hpp), matches the groups to the objects of
 // the last update (object_registry.hpp), measures them (object_figures.hpp) and finds the frames
 // that saw them (view_index.hpp); the same snapshot again costs nothing. Every update that
 // changes something is numbered and its events go to the listener. Thread-safe: one update at a
@@ -21,6 +22,7 @@
 #include "semfuse/objects/object_figures.hpp"
 #include "semfuse/objects/object_params.hpp"
 #include "semfuse/objects/object_registry.hpp"
+#include "semfuse/objects/surface_cache.hpp"
 #include "semfuse/objects/view_index.hpp"
 #include "semfuse/volume/labeled_volume.hpp"
 
@@ -55,7 +57,8 @@ class ObjectTracker {
 
   ObjectTracker(ObjectParams params, LabelLegend legend, double voxel_size);
 
-  // The objects of `map`; regroups only when `map` is not the snapshot of the last call.
+  // The objects of `map`; regroups only when `map` is not the snapshot of the last call. Every
+  // call hands a snapshot of one map, as new as the last or newer (surface_cache.hpp).
   std::shared_ptr<const ObjectSet> objectsOf(const std::shared_ptr<const volume::LabeledVolume>& map);
 
   // Called with the events of every update that has any, under the update's lock (so in order).
@@ -67,12 +70,18 @@ class ObjectTracker {
   void forgetViews() { views_.clear(); }
 
   const ObjectParams& params() const { return params_; }
+  // Leaves the last update scanned for surface (the others' surface was cached).
+  std::size_t lastScannedLeaves() const {
+    std::lock_guard lock(mutex_);
+    return surface_cache_.lastScannedLeaves();
+  }
 
  private:
   ObjectParams params_;
   LabelLegend legend_;
   ViewIndex views_;
-  std::mutex mutex_;  // one update at a time; guards the members below
+  mutable std::mutex mutex_;  // one update at a time; guards the members below
+  SurfaceCache surface_cache_;
   ObjectRegistry registry_;
   std::weak_ptr<const volume::LabeledVolume> last_map_;
   std::shared_ptr<const ObjectSet> last_;

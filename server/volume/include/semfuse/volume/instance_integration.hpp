@@ -11,7 +11,8 @@
 // frame called instance 7 is instance 7. A segment left without a match and large enough gets the
 // next map id. Then every such voxel adds one observation of its segment's map instance (the
 // evidence rule of instance_evidence.hpp). Pixels without an instance (0) or with an ignored label
-// (unlabeled, background) change nothing. Allocates instance leaves, never geometry leaves.
+// (unlabeled, background) change nothing. Allocates instance leaves, never geometry leaves; stamps
+// the leaves whose evidence changed with a new revision (LabeledVolume::markChanged).
 #include <cstddef>
 
 #include <opencv2/core/mat.hpp>
