@@ -200,6 +200,11 @@ void clientMessageSeeds() {
   write("client_messages_cdr", "tracked-pose", withSelector(1, cdr(wire::encodeTrackedPose(pose).msg())));
   pose.state = PoseState::kLost;
   write("client_messages_cdr", "lost-pose", withSelector(1, cdr(wire::encodeTrackedPose(pose).msg())));
+  ObjectEvents events;
+  events.update = 2;
+  events.object_count = 3;
+  events.events = {{ObjectEventKind::kAppeared, 4, 7, {}}, {ObjectEventKind::kMerged, 1, 7, {2, 3}}};
+  write("client_messages_cdr", "object-events", withSelector(5, cdr(wire::encodeObjectEvents(events).msg())));
   clientReplySeeds();
 }
 

@@ -22,9 +22,26 @@
 namespace semfuse::client {
 namespace {}  // namespace
 
+// The object events reader, made on the first takeObjectEvents(): a client that never asks
+// subscribes to nothing more (and needs no DDS Security permission for the topic).
+struct ObjectEventsReader {
+  explicit ObjectEventsReader(const dds::Participant& p)
+      : topic(p, dds::topics::kObjectEvents),
+        reader(topic, dds::qos::objectEvents()),
+        ready(reader.handle()),
+        waitset(p) {
+    waitset.attach(ready.handle());
+  }
+  dds::Topic<semfuse_msg_dds__ObjectEvents_> topic;
+  dds::Reader<semfuse_msg_dds__ObjectEvents_> reader;
+  dds::ReadCondition ready;
+  dds::WaitSet waitset;
+};
+
 struct MapClient::Impl {
   explicit Impl(const dds::Participant& p)
-      : raycast(p, dds::topics::raycast()),
+      : participant(p),
+        raycast(p, dds::topics::raycast()),
         labels_at(p, dds::topics::labelsAt()),
         region(p, dds::topics::region()),
         objects(p, dds::topics::objects()),
@@ -56,6 +73,21 @@ struct MapClient::Impl {
     return out;
   }
 
+  ObjectEventsReader& objectEventsReader() {
+    std::lock_guard lock(object_events_mutex);
+    if (!object_events) object_events = std::make_unique<ObjectEventsReader>(participant);
+    return *object_events;
+  }
+
+  std::vector<ObjectEvents> takeObjectEvents(ObjectEventsReader& events) {
+    std::vector<ObjectEvents> out;
+    while (auto sample = events.reader.take()) {
+      if (auto decoded = wire::decodeObjectEvents(**sample)) out.push_back(std::move(decoded).value());
+      else ++rejected_object_events;
+    }
+    return out;
+  }
+
   void poll() {
     std::lock_guard lock(mutex);
     while (auto s = status_reader.take()) {
@@ -67,6 +99,7 @@ struct MapClient::Impl {
     }
   }
 
+  const dds::Participant& participant;
   Rpc<wire::RaycastCodec> raycast;
   Rpc<wire::LabelsAtCodec> labels_at;
   Rpc<wire::RegionCodec> region;
@@ -89,6 +122,9 @@ struct MapClient::Impl {
   dds::ReadCondition pose_ready;
   dds::WaitSet pose_waitset;
   std::atomic<uint64_t> rejected_poses{0};
+  std::mutex object_events_mutex;
+  std::unique_ptr<ObjectEventsReader> object_events;
+  std::atomic<uint64_t> rejected_object_events{0};
 };
 
 MapClient::MapClient(const dds::Participant& participant)
@@ -191,5 +227,20 @@ std::vector<TrackedPose> MapClient::takePoses(Timeout timeout) {
 }
 
 uint64_t MapClient::rejectedPoses() const { return impl_->rejected_poses.load(); }
+
+std::vector<ObjectEvents> MapClient::takeObjectEvents(Timeout timeout) {
+  ObjectEventsReader& reader = impl_->objectEventsReader();
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  for (;;) {
+    std::vector<ObjectEvents> events = impl_->takeObjectEvents(reader);
+    if (!events.empty()) return events;
+    const auto left =
+        std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    if (left.count() <= 0) return events;
+    static_cast<void>(reader.waitset.wait(DDS_MSECS(left.count())));
+  }
+}
+
+uint64_t MapClient::rejectedObjectEvents() const { return impl_->rejected_object_events.load(); }
 
 }  // namespace semfuse::client

@@ -9,7 +9,7 @@
 #   camera    publishes rt/semfuse/frames only (reads status to find the server)
 #   segmenter reads frames, publishes rt/semfuse/segmentations
 #   query     calls services only (rq/semfuse/*Request out, rr/semfuse/*Reply in), reads
-#             status, legend and poses
+#             status, legend, poses, the live mesh, occupancy and object events
 #   server    the reverse of all of the above
 # Everything else is denied. A test PKI: the CA key lies next to the certificates; for a real
 # deployment keep it offline and copy to each host only its own role's directory plus ca.pem
@@ -89,7 +89,8 @@ sign "$out/governance.xml" "$out/governance.p7s"
 topics_xml() { for t in "$@"; do printf '<topic>%s</topic>' "$t"; done; }
 publishes() {
   case "$1" in
-    server) topics_xml rt/semfuse/status rt/semfuse/labels rt/semfuse/poses 'rt/semfuse/map_*' 'rr/semfuse/*Reply' ;;
+    server) topics_xml rt/semfuse/status rt/semfuse/labels rt/semfuse/poses 'rt/semfuse/map_*' rt/semfuse/occupancy \
+      rt/semfuse/object_events 'rr/semfuse/*Reply' ;;
     camera) topics_xml rt/semfuse/frames ;;
     segmenter) topics_xml rt/semfuse/segmentations ;;
     query) topics_xml 'rq/semfuse/*Request' ;;
@@ -100,7 +101,8 @@ subscribes() {
     server) topics_xml rt/semfuse/frames rt/semfuse/segmentations 'rq/semfuse/*Request' ;;
     camera) topics_xml rt/semfuse/status ;;
     segmenter) topics_xml rt/semfuse/frames ;;
-    query) topics_xml 'rr/semfuse/*Reply' rt/semfuse/status rt/semfuse/labels rt/semfuse/poses 'rt/semfuse/map_*' ;;
+    query) topics_xml 'rr/semfuse/*Reply' rt/semfuse/status rt/semfuse/labels rt/semfuse/poses 'rt/semfuse/map_*' \
+      rt/semfuse/occupancy rt/semfuse/object_events ;;
   esac
 }
 

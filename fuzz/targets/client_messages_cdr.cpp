@@ -6,6 +6,7 @@
 //   3 ServerStatus_     wire::decodeServerStatus
 //   4 Mesh_Response_    wire::MeshCodec::decodeReply, then client::detail::MeshAssembly: the chunk
 //                       taken as chunk 0 and, when it announces more, again as chunk 1
+//   5 ObjectEvents_     wire::decodeObjectEvents (every accepted event of a known kind)
 // Other selector values are ignored.
 #include <cstddef>
 #include <cstdint>
@@ -82,6 +83,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       break;
     case 4:
       if (auto sample = dds::deserialize<semfuse_srv_dds__Mesh_Response_>(data, size)) meshReply(*sample.value());
+      break;
+    case 5:
+      if (auto sample = dds::deserialize<semfuse_msg_dds__ObjectEvents_>(data, size)) {
+        auto events = wire::decodeObjectEvents(*sample.value());
+        if (events) {
+          for (const ObjectEvent& event : events.value().events)
+            SEMFUSE_FUZZ_CHECK(event.kind <= ObjectEventKind::kVanished);
+        }
+      }
       break;
     default:
       break;

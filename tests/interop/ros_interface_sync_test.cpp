@@ -56,7 +56,7 @@ std::string describe(const std::vector<Field>& fields) {
 TEST(RosInterfaceSync, EveryIdlStructHasAnIdenticalRosInterface) {
   const TypeSet idl = idlTypes();
   const TypeSet ros = rosTypes();
-  ASSERT_GE(idl.structs.size(), 43u);  // 19 messages + 12 services x 2
+  ASSERT_GE(idl.structs.size(), 45u);  // 21 messages + 12 services x 2
   for (const auto& [name, fields] : idl.structs) {
     const auto it = ros.structs.find(name);
     ASSERT_NE(it, ros.structs.end()) << name << " has no .msg/.srv in " << kPackage;
@@ -103,7 +103,7 @@ TEST(RosInterfaceSync, ColconCMakeListsNamesEveryInterfaceFile) {
       EXPECT_NE(cmake.find(rel), std::string::npos) << rel << " not in rosidl_generate_interfaces";
     }
   }
-  EXPECT_EQ(files, 31);
+  EXPECT_EQ(files, 33);
   // The package must be called semfuse: rmw_cyclonedds derives the DDS type names from it.
   EXPECT_NE(readText(kPackage / "package.xml").find("<name>semfuse</name>"), std::string::npos);
   EXPECT_TRUE(std::regex_search(cmake, std::regex(R"(project\(semfuse\))")));

@@ -180,6 +180,19 @@ TEST_F(ServerEndToEnd, FusesLateSegmentationsAnswersQueriesAndResumesAfterRestar
   ASSERT_TRUE(table_mesh.ok() && whole_mesh.ok()) << table_mesh.error() << whole_mesh.error();
   EXPECT_GT(table_mesh.value().face_count, 1000u);
   EXPECT_LT(table_mesh.value().face_count, whole_mesh.value().face_count / 4);
+  // The objects' changes on rt/semfuse/object_events: subscribing after the queries still gets
+  // the first update (the server keeps its last 16), in which every object appeared.
+  const std::vector<ObjectEvents> updates = objects_client.takeObjectEvents(10s);
+  ASSERT_FALSE(updates.empty());
+  const ObjectEvents& first = updates.front();
+  EXPECT_EQ(first.update, 1u);
+  EXPECT_GE(first.object_count, all_first.value().size());
+  EXPECT_EQ(first.events.size(), first.object_count);
+  EXPECT_TRUE(std::all_of(first.events.begin(), first.events.end(),
+                          [](const ObjectEvent& e) { return e.kind == ObjectEventKind::kAppeared; }));
+  EXPECT_TRUE(
+      std::any_of(first.events.begin(), first.events.end(), [&](const ObjectEvent& e) { return e.id == t.id; }));
+  EXPECT_EQ(objects_client.rejectedObjectEvents(), 0u);
   auto no_object = objects_client.mesh(std::nullopt, 30s, 999999);
   ASSERT_FALSE(no_object.ok());
   EXPECT_EQ(no_object.errorCode(), ErrorCode::kNotFound) << no_object.error();

@@ -79,6 +79,27 @@ TEST(TrackedPoseCodec, RoundTripAndUnknownState) {
             "tracked pose: unknown state 9 (known: 0 given, 1 tracked, 2 refined, 3 lost)");
 }
 
+TEST(ObjectEventsCodec, UnknownKindAndBrokenSequenceAreRefused) {
+  ObjectEvents in;
+  in.update = 3;
+  in.events = {{ObjectEventKind::kSplit, 6, 5, {13, 14}}};
+  auto encoded = encodeObjectEvents(in);
+  ASSERT_TRUE(decodeObjectEvents(encoded.msg()).ok());
+  // A message decoded in place shares the encoder's buffers: break a copy of the entry.
+  semfuse_msg_dds__ObjectEvent_ entry = encoded.msg().events._buffer[0];
+  semfuse_msg_dds__ObjectEvents_ msg = encoded.msg();
+  msg.events._buffer = &entry;
+  entry.kind = 4;
+  EXPECT_EQ(decodeObjectEvents(msg).error(),
+            "object events: event 0 has unknown kind 4 (known: 0 appeared, 1 merged, 2 split, 3 vanished)");
+  entry.kind = 2;
+  entry.others._buffer = nullptr;
+  EXPECT_FALSE(decodeObjectEvents(msg).ok());
+  msg.events._length = 2;  // more entries than the buffer holds
+  msg.events._maximum = 1;
+  EXPECT_FALSE(decodeObjectEvents(msg).ok());
+}
+
 TEST(LegendCodec, RoundTripsBuiltinLegendAndRejectsDuplicates) {
   const LabelLegend in = *builtinLegend("ade20k");
   auto encoded = encodeLegend(in);

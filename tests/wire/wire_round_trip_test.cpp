@@ -119,6 +119,31 @@ TEST(WireRoundTrip, TrackedPose) {
   EXPECT_EQ(p.integrate_ms, 3.5f);
 }
 
+TEST(WireRoundTrip, ObjectEvents) {
+  ObjectEvents in;
+  in.update = 7;
+  in.stamp = {1700000000, 42};
+  in.object_count = 5;
+  in.events = {{ObjectEventKind::kAppeared, 12, 3, {}},
+               {ObjectEventKind::kMerged, 4, 5, {9, 10}},
+               {ObjectEventKind::kSplit, 6, 5, {13}},
+               {ObjectEventKind::kVanished, 2, 8, {}}};
+  auto out = decodeObjectEvents(*overTheWire(encodeObjectEvents(in).msg()));
+  ASSERT_TRUE(out.ok()) << out.error();
+  const ObjectEvents& e = out.value();
+  EXPECT_EQ(e.update, 7u);
+  EXPECT_EQ(e.stamp.sec, 1700000000);
+  EXPECT_EQ(e.stamp.nanosec, 42u);
+  EXPECT_EQ(e.object_count, 5u);
+  ASSERT_EQ(e.events.size(), 4u);
+  for (std::size_t i = 0; i < e.events.size(); ++i) {
+    EXPECT_EQ(e.events[i].kind, in.events[i].kind) << i;
+    EXPECT_EQ(e.events[i].id, in.events[i].id) << i;
+    EXPECT_EQ(e.events[i].label, in.events[i].label) << i;
+    EXPECT_EQ(e.events[i].others, in.events[i].others) << i;
+  }
+}
+
 TEST(WireRoundTrip, LabelLegend) {
   LabelLegend in;
   in.name = "kitchen";

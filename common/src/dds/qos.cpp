@@ -63,6 +63,7 @@ Qos service() { return std::move(Qos().reliable(kMaxBlockingTime).keepLast(10).v
 Qos sensorData() { return std::move(Qos().bestEffort().keepLast(5).volatileDurability()); }
 Qos mapUpdates() { return std::move(Qos().reliable(kMaxBlockingTime).keepLast(8).volatileDurability()); }
 Qos mapCloud() { return std::move(Qos().reliable(kMaxBlockingTime).keepLast(1).transientLocal()); }
+Qos objectEvents() { return std::move(Qos().reliable(kMaxBlockingTime).keepLast(16).transientLocal()); }
 Qos occupancy() { return std::move(Qos().reliable(kMaxBlockingTime).keepLast(1).transientLocal()); }
 
 }  // namespace qos

@@ -192,4 +192,52 @@ Result<LabelLegend> decodeLegend(const semfuse_msg_dds__LabelLegend_& msg) {
   return legend;
 }
 
+EncodedObjectEvents encodeObjectEvents(const ObjectEvents& events) {
+  EncodedObjectEvents encoded;
+  auto& msg = encoded.msg();
+  msg.header.stamp.sec = events.stamp.sec;
+  msg.header.stamp.nanosec = events.stamp.nanosec;
+  msg.header.frame_id = encoded.keepString("");
+  msg.update = events.update;
+  msg.object_count = events.object_count;
+  std::vector<semfuse_msg_dds__ObjectEvent_> entries(events.events.size());
+  for (std::size_t i = 0; i < events.events.size(); ++i) {
+    const ObjectEvent& event = events.events[i];
+    entries[i].kind = static_cast<uint8_t>(event.kind);
+    entries[i].id = event.id;
+    entries[i].label = event.label;
+    encoded.keepSequence(entries[i].others, event.others);
+  }
+  encoded.keepSequence(msg.events, std::move(entries));
+  return encoded;
+}
+
+Result<ObjectEvents> decodeObjectEvents(const semfuse_msg_dds__ObjectEvents_& msg) {
+  if (Status s = validateSequence("object events", msg.events._length, msg.events._maximum, msg.events._buffer); !s)
+    return makeError(s.error());
+  ObjectEvents events;
+  events.update = msg.update;
+  events.stamp = {msg.header.stamp.sec, msg.header.stamp.nanosec};
+  events.object_count = msg.object_count;
+  events.events.reserve(msg.events._length);
+  for (uint32_t i = 0; i < msg.events._length; ++i) {
+    const semfuse_msg_dds__ObjectEvent_& entry = msg.events._buffer[i];
+    if (entry.kind > static_cast<uint8_t>(ObjectEventKind::kVanished)) {
+      return makeError("object events: event " + std::to_string(i) + " has unknown kind " +
+                       std::to_string(entry.kind) + " (known: 0 appeared, 1 merged, 2 split, 3 vanished)");
+    }
+    if (Status s = validateSequence("object event others", entry.others._length, entry.others._maximum,
+                                    entry.others._buffer);
+        !s)
+      return makeError(s.error());
+    ObjectEvent event;
+    event.kind = static_cast<ObjectEventKind>(entry.kind);
+    event.id = entry.id;
+    event.label = entry.label;
+    event.others.assign(entry.others._buffer, entry.others._buffer + entry.others._length);
+    events.events.push_back(std::move(event));
+  }
+  return events;
+}
+
 }  // namespace semfuse::wire

@@ -5,6 +5,9 @@
 
 #include <spdlog/spdlog.h>
 
+#include "semfuse/dds/error.hpp"
+#include "semfuse/dds/qos.hpp"
+#include "semfuse/wire/message_codecs.hpp"
 #include "tbb_worker_names.hpp"
 
 namespace semfuse::server {
@@ -45,12 +48,25 @@ Services::Services(const dds::Participant& participant, const ServerConfig& conf
   objects::ObjectParams object_params;
   object_params.up_from_floor = true;
   objects_ = makeObjectTracker(mapper.legend(), config.volume.voxel_size, object_params);
-  // Until the status or a topic carries them, the objects' changes go to the log.
-  objects_->setListener([](const ObjectEvents& update) {
+  try {
+    object_events_topic_ =
+        std::make_unique<dds::Topic<semfuse_msg_dds__ObjectEvents_>>(participant, dds::topics::kObjectEvents);
+    object_events_writer_ =
+        std::make_unique<dds::Writer<semfuse_msg_dds__ObjectEvents_>>(*object_events_topic_, dds::qos::objectEvents());
+  } catch (const dds::DdsError& e) {
+    // E.g. DDS Security permissions written before this topic: the objects are served without it.
+    spdlog::error("object events off: {}", e.what());
+    state_.errors.record("object_events", e.what());
+  }
+  // On the thread of the query that regrouped the objects (objects or mesh of an object).
+  objects_->setListener([this](const ObjectEvents& update) {
     std::size_t counts[4] = {0, 0, 0, 0};
     for (const ObjectEvent& event : update.events) ++counts[static_cast<int>(event.kind)];
     spdlog::info("objects update {}: {} objects; {} appeared, {} merged, {} split, {} vanished", update.update,
                  update.object_count, counts[0], counts[1], counts[2], counts[3]);
+    if (!object_events_writer_) return;
+    const wire::EncodedObjectEvents encoded = wire::encodeObjectEvents(update);
+    if (Status ok = object_events_writer_->write(encoded.msg()); !ok) spdlog::warn("object events: {}", ok.error());
   });
   admin_.map_file = config.map_file;
   admin_.save = std::move(save);

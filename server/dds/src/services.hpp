@@ -23,7 +23,9 @@
 #include "mapper_access.hpp"
 #include "semfuse/dds/participant.hpp"
 #include "semfuse/dds/rpc.hpp"
+#include "semfuse/dds/topic.hpp"
 #include "semfuse/dds/topics.hpp"
+#include "semfuse/dds/writer.hpp"
 #include "semfuse/wire/distance_codecs.hpp"
 #include "semfuse/wire/map_update_codecs.hpp"
 #include "semfuse/wire/service_codecs.hpp"
@@ -59,6 +61,10 @@ class Services {
   MapperAccess map_;
   QueryLimits limits_;
   HeldMeshes meshes_;
+  // Where the objects' changes are published (null when DDS Security's permissions leave the
+  // topic out: then they go to the log only); before the tracker that writes them.
+  std::unique_ptr<dds::Topic<semfuse_msg_dds__ObjectEvents_>> object_events_topic_;
+  std::unique_ptr<dds::Writer<semfuse_msg_dds__ObjectEvents_>> object_events_writer_;
   // The map's objects, shared by the objects and mesh services so that ids stay with objects.
   std::unique_ptr<objects::ObjectTracker> objects_;
   AdminActions admin_;

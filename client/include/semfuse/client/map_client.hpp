@@ -21,6 +21,7 @@
 #include "semfuse/client/server_status.hpp"
 #include "semfuse/core/distance_service_types.hpp"
 #include "semfuse/core/legend.hpp"
+#include "semfuse/core/object_events.hpp"
 #include "semfuse/core/raycast_layers.hpp"
 #include "semfuse/core/service_types.hpp"
 #include "semfuse/core/types.hpp"
@@ -104,6 +105,15 @@ class MapClient {
   // counted in rejectedPoses().
   std::vector<TrackedPose> takePoses(Timeout timeout);
   uint64_t rejectedPoses() const;
+
+  // How the map's objects changed (rt/semfuse/object_events): one ObjectEvents per update of the
+  // objects that changed something (objects appeared, merged, split or vanished; the server
+  // regroups the objects when a client asks for them). The first call subscribes, and gets the
+  // server's last 16 updates; each call returns what arrived since the last one, waiting up to
+  // `timeout` for the first when none is waiting. Updates that fail to decode are left out and
+  // counted in rejectedObjectEvents().
+  std::vector<ObjectEvents> takeObjectEvents(Timeout timeout);
+  uint64_t rejectedObjectEvents() const;
 
   // The distance field, for planners and navigation (servers started with --esdf; others answer
   // UNAVAILABLE). Distances in metres, world frame, z up; unknown space is reported as unknown.

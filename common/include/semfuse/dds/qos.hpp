@@ -57,6 +57,9 @@ Qos sensorData();  // best-effort, keep-last 5, volatile: ROS 2 sensor-data prof
 Qos mapUpdates();
 Qos mapCloud();   // reliable, transient-local, keep-last 1: a late RViz gets the surface at once
 Qos occupancy();  // reliable, transient-local, keep-last 1: as a ROS 2 map server's /map
+// Object events: reliable, transient-local, keep-last 16, so a client that subscribes after a
+// query still sees what it changed.
+Qos objectEvents();
 
 }  // namespace qos
 }  // namespace semfuse::dds

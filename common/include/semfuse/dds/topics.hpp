@@ -15,6 +15,7 @@ inline constexpr const char* kMapUpdates = "rt/semfuse/map_updates";  // semfuse
 inline constexpr const char* kMapMarkers = "rt/semfuse/map_markers";  // visualization_msgs/MarkerArray
 inline constexpr const char* kMapCloud = "rt/semfuse/map_cloud";      // sensor_msgs/PointCloud2
 inline constexpr const char* kOccupancy = "rt/semfuse/occupancy";     // nav_msgs/OccupancyGrid
+inline constexpr const char* kObjectEvents = "rt/semfuse/object_events";  // semfuse ObjectEvents
 
 struct ServiceTopics {
   std::string request;

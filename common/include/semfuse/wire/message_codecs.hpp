@@ -1,5 +1,5 @@
 #pragma once
-// Segmentation, TrackedPose and LabelLegend <-> their semfuse::msg::dds_ messages.
+// Segmentation, TrackedPose, LabelLegend and ObjectEvents <-> their semfuse::msg::dds_ messages.
 // Segmentation confidence encodings: "" (all 1.0), "8UC1" (0-255 = 0..1), "32FC1" (float 0..1).
 #include <string>
 #include <vector>
@@ -7,6 +7,7 @@
 #include <msg.h>
 
 #include "semfuse/core/legend.hpp"
+#include "semfuse/core/object_events.hpp"
 #include "semfuse/core/result.hpp"
 #include "semfuse/core/types.hpp"
 #include "semfuse/wire/owned_message.hpp"
@@ -16,6 +17,7 @@ namespace semfuse::wire {
 using EncodedSegmentation = OwnedMessage<semfuse_msg_dds__Segmentation_>;
 using EncodedTrackedPose = OwnedMessage<semfuse_msg_dds__TrackedPose_>;
 using EncodedLegend = OwnedMessage<semfuse_msg_dds__LabelLegend_>;
+using EncodedObjectEvents = OwnedMessage<semfuse_msg_dds__ObjectEvents_>;
 
 const std::vector<std::string>& confidenceEncodings();  // "", 8UC1, 32FC1
 
@@ -33,5 +35,9 @@ Result<TrackedPose> decodeTrackedPose(const semfuse_msg_dds__TrackedPose_& msg);
 EncodedLegend encodeLegend(const LabelLegend& legend, Stamp stamp = {});
 // Sorts the labels by id and rejects what validateLegend rejects.
 Result<LabelLegend> decodeLegend(const semfuse_msg_dds__LabelLegend_& msg);
+
+EncodedObjectEvents encodeObjectEvents(const ObjectEvents& events);
+// Rejects unknown event kinds and malformed sequences.
+Result<ObjectEvents> decodeObjectEvents(const semfuse_msg_dds__ObjectEvents_& msg);
 
 }  // namespace semfuse::wire
