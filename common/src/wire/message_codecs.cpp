@@ -223,11 +223,11 @@ Result<ObjectEvents> decodeObjectEvents(const semfuse_msg_dds__ObjectEvents_& ms
   for (uint32_t i = 0; i < msg.events._length; ++i) {
     const semfuse_msg_dds__ObjectEvent_& entry = msg.events._buffer[i];
     if (entry.kind > static_cast<uint8_t>(ObjectEventKind::kVanished)) {
-      return makeError("object events: event " + std::to_string(i) + " has unknown kind " +
-                       std::to_string(entry.kind) + " (known: 0 appeared, 1 merged, 2 split, 3 vanished)");
+      return makeError("object events: event " + std::to_string(i) + " has unknown kind " + std::to_string(entry.kind) +
+                       " (known: 0 appeared, 1 merged, 2 split, 3 vanished)");
     }
-    if (Status s = validateSequence("object event others", entry.others._length, entry.others._maximum,
-                                    entry.others._buffer);
+    if (Status s =
+            validateSequence("object event others", entry.others._length, entry.others._maximum, entry.others._buffer);
         !s)
       return makeError(s.error());
     ObjectEvent event;

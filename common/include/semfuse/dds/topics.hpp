@@ -11,10 +11,10 @@ inline constexpr const char* kSegmentations = "rt/semfuse/segmentations";
 inline constexpr const char* kPoses = "rt/semfuse/poses";
 inline constexpr const char* kStatus = "rt/semfuse/status";
 inline constexpr const char* kLabels = "rt/semfuse/labels";
-inline constexpr const char* kMapUpdates = "rt/semfuse/map_updates";  // semfuse MapUpdate
-inline constexpr const char* kMapMarkers = "rt/semfuse/map_markers";  // visualization_msgs/MarkerArray
-inline constexpr const char* kMapCloud = "rt/semfuse/map_cloud";      // sensor_msgs/PointCloud2
-inline constexpr const char* kOccupancy = "rt/semfuse/occupancy";     // nav_msgs/OccupancyGrid
+inline constexpr const char* kMapUpdates = "rt/semfuse/map_updates";      // semfuse MapUpdate
+inline constexpr const char* kMapMarkers = "rt/semfuse/map_markers";      // visualization_msgs/MarkerArray
+inline constexpr const char* kMapCloud = "rt/semfuse/map_cloud";          // sensor_msgs/PointCloud2
+inline constexpr const char* kOccupancy = "rt/semfuse/occupancy";         // nav_msgs/OccupancyGrid
 inline constexpr const char* kObjectEvents = "rt/semfuse/object_events";  // semfuse ObjectEvents
 
 struct ServiceTopics {
