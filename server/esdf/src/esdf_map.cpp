@@ -49,7 +49,7 @@ class Classifier {
       if (volume::unpackWeight(v) >= min_weight_) {
         const Crossing crossing = nearestCrossing(leaf, n, tsdf);
         c.site = crossing.axis >= 0;
-        c.site_distance = static_cast<uint8_t>(std::lround(crossing.fraction * 255.0f));
+        c.site_distance = static_cast<uint8_t>(std::lround(crossing.distance * 255.0f));
       }
     } else if (leaf.observed_free[n]) {
       c.known = true;
@@ -58,7 +58,8 @@ class Classifier {
   }
 
   // Labeled surface points: for every free-side site with a label, the zero crossing on its
-  // nearest crossing edge.
+  // nearest crossing edge (a point of the surface: the plane's nearest point would cut the corners
+  // of boxes).
   std::vector<SurfacePoint> surfacePoints(const ChangedLeaf& leaf) const {
     std::vector<SurfacePoint> points;
     if (!leaf.has_geometry) return points;
@@ -79,10 +80,16 @@ class Classifier {
   }
 
  private:
+  // The surface near a site as the plane through the zero crossings on its edges, one per axis
+  // (the nearer one where both edges of an axis cross): with crossings at fractions a, b, c of a
+  // voxel along the axes, the plane lies 1 / sqrt(1/a^2 + 1/b^2 + 1/c^2) from the voxel's centre
+  // (an axis without a crossing adds nothing). The nearest crossing alone overestimates the
+  // distance to an oblique surface by up to sqrt(3) (a sphere's rim, a rotated box's faces).
   struct Crossing {
-    int axis = -1;  // -1: no neighbour across the surface
+    int axis = -1;  // the nearest crossing's edge; -1: no neighbour across the surface
     int direction = 0;
     float fraction = 1.0f;
+    float distance = 1.0f;  // to the plane, voxels
   };
 
   // The TSDF of the neighbour one step along `axis` in `direction`; false where unobserved.
@@ -101,16 +108,25 @@ class Classifier {
   }
 
   static Crossing nearestCrossing(const ChangedLeaf& leaf, int n, float tsdf) {
-    Crossing best;
     const openvdb::Coord local = localCoord(n);
     const bool negative = tsdf < 0.0f;
+    float fraction[3] = {0.0f, 0.0f, 0.0f};  // 0: no crossing along the axis
+    int direction[3] = {0, 0, 0};
+    Crossing best;
     for (int axis = 0; axis < 3; ++axis)
-      for (int direction : {-1, 1}) {
+      for (int step : {-1, 1}) {
         float other;
-        if (!neighbourTsdf(leaf, local, axis, direction, other) || (other < 0.0f) == negative) continue;
-        const float fraction = std::abs(tsdf) / (std::abs(tsdf) + std::abs(other));
-        if (best.axis < 0 || fraction < best.fraction) best = {axis, direction, fraction};
+        if (!neighbourTsdf(leaf, local, axis, step, other) || (other < 0.0f) == negative) continue;
+        const float f = std::abs(tsdf) / (std::abs(tsdf) + std::abs(other));
+        if (direction[axis] == 0 || f < fraction[axis]) fraction[axis] = f, direction[axis] = step;
+        if (best.axis < 0 || f < best.fraction) best = {axis, step, f, f};
       }
+    if (best.axis < 0) return best;
+    if (best.fraction <= 0.0f) return best;  // the surface passes through the centre
+    float inverse_squares = 0.0f;
+    for (int axis = 0; axis < 3; ++axis)
+      if (direction[axis] != 0) inverse_squares += 1.0f / (fraction[axis] * fraction[axis]);
+    best.distance = 1.0f / std::sqrt(inverse_squares);
     return best;
   }
 
