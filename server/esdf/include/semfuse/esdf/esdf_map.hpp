@@ -6,9 +6,9 @@
 //
 // How it works (esdf/README.md has the details and figures): every observed voxel is known, on
 // the inside or the free side of the surface by its TSDF sign (voxels of observed free space are
-// free); observed voxels with |tsdf| under a voxel are surface sites. Each known voxel keeps the
-// offset to its nearest site on its own side (esdf_voxel.hpp), found by a wavefront from the
-// sites over 6-neighbours, within the maximum distance (as voxblox and nvblox propagate
+// free); observed voxels with a 6-neighbour across the surface are surface sites. Each known voxel
+// keeps the offset to its nearest site on its own side (esdf_voxel.hpp), found by a wavefront from
+// the sites over 26-neighbours, within the maximum distance (as voxblox and nvblox propagate
 // "parents"). An update re-classifies the voxels of the changed leaves; where a site vanished or
 // moved away, a raise wave clears the voxels that pointed at it, and a lower wave from the new
 // sites and from the edge of the cleared region fills them again. Unknown space stays unknown:
