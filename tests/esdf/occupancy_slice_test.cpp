@@ -105,9 +105,14 @@ TEST(OccupancySlice, MatchesTheRoomsFloorPlan) {
       "occupied IoU %.3f (%zu of %zu); %zu free cells, %zu of them occupied in the plan; %zu unknown; %zu inside a "
       "tall object and %zu only a leg's, left out\n",
       iou, both, either, free_cells, free_but_occupied, unknown, unmeasurable, legs);
-  // The target is 0.95; at 5 cm the rims of the thin chair seats, the sphere and the boxes, where
-  // the TSDF blurs the surface by a voxel, keep it at 0.93.
-  EXPECT_GE(iou, 0.93);
+  // The target is 0.95. What keeps it at 0.94 is the TSDF, not the slice: 21 of the 54 cells that
+  // differ are free cells beside the chairs' 4 cm backrests, whose voxel 3 cm off one face lies
+  // 7 cm behind the other, within the 10 cm truncation band, so views of that face integrate it as
+  // inside; 9 are cells of the big sphere's far rim, seen only at grazing angles; 9 are columns
+  // just inside the cabinet's +y side and in its corner with the wall, which no view saw at that
+  // height (unknown); the other 15 lie at the edges of the boxes and the cabinet, where the field
+  // is within 0.3 voxel of the half-voxel threshold.
+  EXPECT_GE(iou, 0.94);
   EXPECT_GT(free_cells, 5000u);
   EXPECT_LE(free_but_occupied, free_cells / 200);
 }

@@ -6,9 +6,9 @@
 //
 // How it works (esdf/README.md has the details and figures): every observed voxel is known, on
 // the inside or the free side of the surface by its TSDF sign (voxels of observed free space are
-// free); observed voxels with |tsdf| under a voxel are surface sites. Each known voxel keeps the
-// offset to its nearest site on its own side (esdf_voxel.hpp), found by a wavefront from the
-// sites over 6-neighbours, within the maximum distance (as voxblox and nvblox propagate
+// free); observed voxels with a 6-neighbour across the surface are surface sites. Each known voxel
+// keeps the offset to its nearest site on its own side (esdf_voxel.hpp), found by a wavefront from
+// the sites over 26-neighbours, within the maximum distance (as voxblox and nvblox propagate
 // "parents"). An update re-classifies the voxels of the changed leaves; where a site vanished or
 // moved away, a raise wave clears the voxels that pointed at it, and a lower wave from the new
 // sites and from the edge of the cleared region fills them again. Unknown space stays unknown:
@@ -17,6 +17,7 @@
 // Not thread-safe: one writer (apply), readers under the caller's lock.
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 
 #include "semfuse/esdf/esdf_params.hpp"
 #include "semfuse/esdf/esdf_voxel.hpp"
@@ -24,6 +25,9 @@
 #include "semfuse/esdf/map_changes.hpp"
 
 namespace semfuse::esdf {
+namespace detail {
+class Waves;
+}
 
 struct UpdateStats {
   std::size_t leaves = 0;         // changed leaves processed
@@ -38,6 +42,9 @@ struct UpdateStats {
 class EsdfMap {
  public:
   EsdfMap(double voxel_size, EsdfParams params = {});
+  ~EsdfMap();
+  EsdfMap(const EsdfMap&) = delete;
+  EsdfMap& operator=(const EsdfMap&) = delete;
 
   // Brings the field up to the changes' revision. Changes must come in order (copyChanges with
   // this map's revision()); changes.all clears the field first.
@@ -60,6 +67,7 @@ class EsdfMap {
   float max_voxels_;
   EsdfGrid::Ptr grid_;
   LabelSurfaces surfaces_;
+  std::unique_ptr<detail::Waves> waves_;  // after grid_: its accessors go before the tree
   uint64_t revision_ = 0;
 };
 

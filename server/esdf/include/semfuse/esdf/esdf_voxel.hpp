@@ -23,7 +23,7 @@ using EsdfGrid = openvdb::Int64Grid;
 
 struct EsdfVoxel {
   int16_t dx = 0, dy = 0, dz = 0;  // site = this voxel + (dx, dy, dz)
-  uint8_t site_distance = 0;       // the site's |tsdf|, 1/255 voxel
+  uint8_t site_distance = 0;       // the site's distance to the surface, 1/255 voxel
   bool inside = false;
   bool has_site = false;
   bool is_site = false;

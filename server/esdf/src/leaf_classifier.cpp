@@ -1,0 +1,104 @@
+#include "leaf_classifier.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include "semfuse/volume/voxel.hpp"
+
+namespace semfuse::esdf::detail {
+
+LeafClassifier::LeafClassifier(double voxel_size, const EsdfParams& params)
+    : voxel_(static_cast<float>(voxel_size)), min_weight_(params.min_site_weight) {}
+
+bool LeafClassifier::classify(const ChangedLeaf& leaf,
+                              std::array<Classified, volume::LabeledVolume::kLeafVoxels>& out) {
+  constexpr float kUnobserved = std::numeric_limits<float>::quiet_NaN();
+  tsdf_.fill(kUnobserved);
+  if (leaf.has_geometry) {
+    for (int x = 0, n = 0; x < kDim; ++x)
+      for (int y = 0; y < kDim; ++y)
+        for (int z = 0; z < kDim; ++z, ++n)
+          if (leaf.observed[n]) tsdf_[padded(x, y, z)] = volume::unpackTsdf(leaf.voxels[n]);
+    for (int axis = 0; axis < 3; ++axis)
+      for (int side = 0; side < 2; ++side) {
+        const int u = axis == 0 ? 1 : 0, v = axis == 2 ? 1 : 2;
+        for (int a = 0; a < kDim; ++a)
+          for (int b = 0; b < kDim; ++b) {
+            int at[3];
+            at[axis] = side ? kDim : -1;
+            at[u] = a;
+            at[v] = b;
+            tsdf_[padded(at[0], at[1], at[2])] = leaf.halo[ChangedLeaf::haloIndex(axis, side == 1, a, b)];
+          }
+      }
+  }
+  bool any_known = false;
+  for (int x = 0, n = 0; x < kDim; ++x)
+    for (int y = 0; y < kDim; ++y)
+      for (int z = 0; z < kDim; ++z, ++n) {
+        Classified c;
+        const float tsdf = tsdf_[padded(x, y, z)];
+        if (!std::isnan(tsdf)) {
+          c.known = true;
+          c.inside = tsdf < 0.0f;
+          if (volume::unpackWeight(leaf.voxels[n]) >= min_weight_) {
+            const Crossing crossing = nearestCrossing(x, y, z);
+            c.site = crossing.axis >= 0;
+            c.site_distance = static_cast<uint8_t>(std::lround(crossing.distance * 255.0f));
+          }
+        } else if (leaf.observed_free[n]) {
+          c.known = true;
+        }
+        any_known |= c.known;
+        out[n] = c;
+      }
+  return any_known;
+}
+
+std::vector<SurfacePoint> LeafClassifier::surfacePoints(const ChangedLeaf& leaf) const {
+  std::vector<SurfacePoint> points;
+  if (!leaf.has_geometry) return points;
+  for (int x = 0, n = 0; x < kDim; ++x)
+    for (int y = 0; y < kDim; ++y)
+      for (int z = 0; z < kDim; ++z, ++n) {
+        if (!leaf.observed[n]) continue;
+        const volume::PackedVoxel v = leaf.voxels[n];
+        const LabelId label = volume::unpackLabel(v);
+        if (label == kUnlabeled || tsdf_[padded(x, y, z)] < 0.0f || volume::unpackWeight(v) < min_weight_) continue;
+        const Crossing crossing = nearestCrossing(x, y, z);
+        if (crossing.axis < 0) continue;
+        const openvdb::Coord ijk = leaf.origin.offsetBy(x, y, z);
+        Eigen::Vector3f position(ijk.x() * voxel_, ijk.y() * voxel_, ijk.z() * voxel_);
+        position[crossing.axis] += static_cast<float>(crossing.direction) * crossing.fraction * voxel_;
+        points.push_back({position, label});
+      }
+  return points;
+}
+
+LeafClassifier::Crossing LeafClassifier::nearestCrossing(int x, int y, int z) const {
+  const int centre = padded(x, y, z);
+  const float tsdf = tsdf_[centre];
+  const bool negative = tsdf < 0.0f;
+  // Steps between neighbours in tsdf_ along x, y, z.
+  constexpr int kStride[3] = {kPadded * kPadded, kPadded, 1};
+  float fraction[3] = {0.0f, 0.0f, 0.0f};
+  bool crosses[3] = {false, false, false};
+  Crossing best;
+  for (int axis = 0; axis < 3; ++axis)
+    for (int step : {-1, 1}) {
+      const float other = tsdf_[centre + step * kStride[axis]];
+      // An unobserved neighbour (NaN) compares false both ways: no crossing.
+      if (!(negative ? other >= 0.0f : other < 0.0f)) continue;
+      const float f = std::abs(tsdf) / (std::abs(tsdf) + std::abs(other));
+      if (!crosses[axis] || f < fraction[axis]) fraction[axis] = f, crosses[axis] = true;
+      if (best.axis < 0 || f < best.fraction) best = {axis, step, f, f};
+    }
+  if (best.axis < 0 || best.fraction <= 0.0f) return best;  // none, or the surface passes through the centre
+  float inverse_squares = 0.0f;
+  for (int axis = 0; axis < 3; ++axis)
+    if (crosses[axis]) inverse_squares += 1.0f / (fraction[axis] * fraction[axis]);
+  best.distance = 1.0f / std::sqrt(inverse_squares);
+  return best;
+}
+
+}  // namespace semfuse::esdf::detail
