@@ -2,6 +2,8 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 
@@ -15,8 +17,11 @@ Result<BenchServer> startBenchServer(const std::string& executable, int domain,
   ::setenv("CYCLONEDDS_URI", ("file://" + profile).c_str(), 1);  // before the first participant
   BenchServer server;
   server.domain = domain >= 0 ? domain : 200 + static_cast<int>(::getpid() % 30);
-  std::vector<std::string> args{executable,    "--domain-id", std::to_string(server.domain), "--dds-profile", profile,
-                                "--log-level", "warn"};
+  std::vector<std::string> args{executable, "--domain-id", std::to_string(server.domain), "--dds-profile", profile};
+  // Warnings only, unless the bench's arguments ask for another level (the server takes one).
+  const bool level_given = std::any_of(extra_args.begin(), extra_args.end(),
+                                       [](const std::string& arg) { return arg.rfind("--log-level", 0) == 0; });
+  if (!level_given) args.insert(args.end(), {"--log-level", "warn"});
   args.insert(args.end(), extra_args.begin(), extra_args.end());
   std::printf("server: %s (domain %d)\n", executable.c_str(), server.domain);
   auto process = cli::ChildProcess::start(args);

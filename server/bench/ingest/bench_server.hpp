@@ -1,7 +1,8 @@
 #pragma once
 // The semfuse-server a bench drives: started as a child process on a DDS domain of its own with
 // the loopback profile (set for this process's participants too, before the first one exists),
-// logging warnings only, plus the bench's extra arguments.
+// logging warnings only (unless the extra arguments give --log-level), plus the bench's extra
+// arguments.
 #include <memory>
 #include <string>
 #include <vector>
