@@ -202,6 +202,7 @@ Result<LoadResult> LoadRun::run(pid_t pid) {
   }
   for (auto& camera : cameras) camera.join();
   for (auto& query : queries) query->stop();
+  result.rss = rss.summary();  // the load's window, not the drain's quiet seconds
   const ingest::CpuSample cpu_end = ingest::sampleCpu(pid);
   const ingest::CpuSample bench_cpu_end = ingest::sampleCpu(::getpid());
   result.load_end = loadAverage();
@@ -220,7 +221,6 @@ Result<LoadResult> LoadRun::run(pid_t pid) {
   auto after = drain();
   if (!after) return makeError(after.error());
   result.after = std::move(after).value();
-  result.rss = rss.summary();
   for (std::size_t k = 0; k < plan.size(); ++k) result.cameras.push_back({plan[k].camera_id, plan[k].posed, sent[k]});
 
   std::this_thread::sleep_for(std::chrono::milliseconds(1000));  // the last poses and map update in flight

@@ -70,6 +70,8 @@ RssSummary RssTimeline::summary() {
   for (const auto& sample : all) s.max_mib = std::max(s.max_mib, sample.rss_mib);
   s.slope_mib_per_min = slopePerMinute(all, [](const RssSample& x) { return x.rss_mib; });
   s.non_map_slope_mib_per_min = slopePerMinute(all, [](const RssSample& x) { return x.rss_mib - x.map_mib; });
+  const std::vector<RssSample> late(all.begin() + static_cast<std::ptrdiff_t>(all.size() / 2), all.end());
+  s.late_slope_mib_per_min = slopePerMinute(late, [](const RssSample& x) { return x.rss_mib; });
   return s;
 }
 

@@ -22,6 +22,9 @@ struct RssSummary {
   double start_mib = 0, max_mib = 0, end_mib = 0;
   double slope_mib_per_min = 0;          // least squares over the samples
   double non_map_slope_mib_per_min = 0;  // of RSS minus the map's bytes
+  // Over the second half of the run: buffers that fill once (frame history, queues, snapshots)
+  // make the start steep; a leak keeps the second half rising.
+  double late_slope_mib_per_min = 0;
   double map_start_mib = 0, map_end_mib = 0;
   std::size_t samples = 0;
 };
