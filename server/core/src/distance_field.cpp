@@ -73,10 +73,13 @@ void DistanceField::updateOnce() {
   // applied as if the map had changed that much (the field reaches the same state once the last
   // slice is in); queries take the lock between slices, and stop() ends the update there.
   esdf::UpdateStats stats;
+  // A rebuild (the map was cleared, replaced or is new) goes in one piece: sliced, it would show
+  // queries an emptied field filling up.
   const std::size_t total = changes.leaves.size();
-  for (std::size_t first = 0; first == 0 || first < total; first += kLeavesPerHold) {
+  const std::size_t per_hold = changes.all ? std::max<std::size_t>(total, 1) : kLeavesPerHold;
+  for (std::size_t first = 0; first == 0 || first < total; first += per_hold) {
     if (first > 0 && !running_) return;  // stopping: the field stays at its last whole revision
-    const std::size_t last = std::min(total, first + kLeavesPerHold);
+    const std::size_t last = std::min(total, first + per_hold);
     esdf::MapChanges slice;
     slice.revision = last == total ? changes.revision : since;
     slice.all = first == 0 && changes.all;
