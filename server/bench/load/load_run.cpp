@@ -196,7 +196,7 @@ Result<LoadResult> LoadRun::run(pid_t pid) {
   for (auto next = start + std::chrono::seconds(10); Clock::now() < end && !ingest::interrupted();) {
     std::this_thread::sleep_until(std::min(end, Clock::now() + std::chrono::milliseconds(200)));
     if (Clock::now() >= next && Clock::now() < end) {
-      showProgress(std::chrono::duration<double>(Clock::now() - start).count(), sent);
+      showProgress(std::chrono::duration<double>(Clock::now() - start).count());
       next += std::chrono::seconds(10);
     }
   }
@@ -243,18 +243,18 @@ Result<LoadResult> LoadRun::run(pid_t pid) {
   return result;
 }
 
-void LoadRun::showProgress(double elapsed_s, const std::vector<ingest::CameraResult>& sent) {
-  std::size_t frames = 0;
-  for (const auto& camera : sent) frames += camera.sent;  // read while the threads write: a progress figure
+// From the server's latest status: the camera threads' own counts are read only once they ended.
+void LoadRun::showProgress(double elapsed_s) {
   const auto status = map_.latestStatus();
-  uint64_t integrated = 0, queue_full = 0;
+  uint64_t received = 0, integrated = 0, queue_full = 0;
   if (status) {
+    received = status->frames_received;
     integrated = status->frames_integrated;
     for (const auto& c : status->dropped)
       if (c.reason == "queue_full") queue_full += c.count;
   }
-  std::printf("  %4.0f s: %zu frames sent, %llu integrated, %llu queue drops, server RSS %.0f MiB, load %.2f\n",
-              elapsed_s, frames, static_cast<unsigned long long>(integrated),
+  std::printf("  %4.0f s: %llu frames received, %llu integrated, %llu queue drops, server RSS %.0f MiB, load %.2f\n",
+              elapsed_s, static_cast<unsigned long long>(received), static_cast<unsigned long long>(integrated),
               static_cast<unsigned long long>(queue_full),
               status ? static_cast<double>(status->rss_bytes) / (1024.0 * 1024.0) : 0.0, loadAverage());
   std::fflush(stdout);

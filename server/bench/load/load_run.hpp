@@ -33,7 +33,7 @@ class LoadRun {
  private:
   Status connect();
   std::vector<std::unique_ptr<QueryLoop>> makeQueries(const std::atomic<std::size_t>& camera0_index);
-  void showProgress(double elapsed_s, const std::vector<ingest::CameraResult>& sent);
+  void showProgress(double elapsed_s);
   Result<client::ServerStatus> drain();
 
   const LoadOptions& options_;
