@@ -27,6 +27,7 @@
 
 #include "bench_registry.hpp"
 #include "bench_support.hpp"
+#include "ingest/bench_server.hpp"
 #include "ingest/ingest_options.hpp"
 #include "ingest/ingest_runs.hpp"
 #include "ingest/interrupt.hpp"
@@ -38,10 +39,6 @@ namespace semfuse::bench::ingest {
 namespace {
 
 int runIngestBench(const IngestOptions& options) {
-  if (options.server.empty() || ::access(options.server.c_str(), X_OK) != 0) {
-    std::fprintf(stderr, "semfuse-server not found at '%s' (use --server)\n", options.server.c_str());
-    return 2;
-  }
   // Ctrl-C ends the runs early; the server is still stopped and partial results printed.
   installInterruptHandler();
 
@@ -56,27 +53,21 @@ int runIngestBench(const IngestOptions& options) {
   std::printf("  %zu frames in %.1f s; load average %.2f\n", data.value().frames.size(), load_watch.elapsedMs() / 1e3,
               loadAverage());
 
-  const std::string profile = std::string(SEMFUSE_SOURCE_DIR) + "/deploy/dds/localhost.xml";
-  ::setenv("CYCLONEDDS_URI", ("file://" + profile).c_str(), 1);  // before the first participant
-  const int domain = options.domain >= 0 ? options.domain : 200 + static_cast<int>(::getpid() % 30);
-  std::vector<std::string> args{options.server, "--domain-id", std::to_string(domain), "--dds-profile", profile,
-                                "--log-level",  "warn"};
-  args.insert(args.end(), options.server_args.begin(), options.server_args.end());
-  std::printf("server: %s (domain %d)\n", options.server.c_str(), domain);
-  auto server = cli::ChildProcess::start(args);
+  auto server = startBenchServer(options.server, options.domain, options.server_args);
   if (!server) {
     std::fprintf(stderr, "%s\n", server.error().c_str());
     return 2;
   }
+  cli::ChildProcess& process = *server.value().process;
   int code = 1;
   try {
-    IngestRuns bench(options, data.value(), static_cast<dds_domainid_t>(domain));
-    code = bench.run(server.value()->pid());
+    IngestRuns bench(options, data.value(), static_cast<dds_domainid_t>(server.value().domain));
+    code = bench.run(process.pid());
   } catch (const std::exception& e) {
     std::fprintf(stderr, "ingest bench: %s\n", e.what());
   }
-  const double hwm = procStatusMiB(server.value()->pid(), "VmHWM:");
-  const int server_exit = server.value()->stop();
+  const double hwm = procStatusMiB(process.pid(), "VmHWM:");
+  const int server_exit = process.stop();
   std::printf("server VmHWM %.0f MiB; stopped with SIGTERM, exit code %d\n", hwm, server_exit);
   return server_exit == 0 ? code : (code ? code : 1);
 }

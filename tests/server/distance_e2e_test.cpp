@@ -121,8 +121,15 @@ TEST(DistanceEndToEnd, ServesTheDistanceFieldAndPublishesTheOccupancyGrid) {
   EXPECT_EQ(segments.value()[0].status, client::SegmentStatus::kCollision);
   EXPECT_EQ(segments.value()[1].status, client::SegmentStatus::kFree);
 
-  // The occupancy topic: the configured band over the whole observed extent.
+  // The occupancy topic: the configured band over the whole observed extent, once the publisher
+  // has sliced a field with every frame in it. The field follows the map on its own thread and
+  // answers queries between the slices of an update, so the queries above do not wait for the
+  // last update to end: the grid on the topic may still be one from before it.
   auto published = occupancy.waitForGrid(10s);
+  for (int tries = 0; tries < 100 && published && published->width * kVoxel < 5.0; ++tries) {
+    std::this_thread::sleep_for(100ms);
+    published = occupancy.latest();
+  }
   ASSERT_TRUE(published.has_value());
   EXPECT_EQ(published->frame_id, "map");
   EXPECT_FLOAT_EQ(static_cast<float>(published->resolution), static_cast<float>(kVoxel));  // float32 on the wire

@@ -14,6 +14,8 @@
 #include "distance_handlers.hpp"
 #include "mapper.hpp"
 #include "semfuse/core/legend.hpp"
+#include "semfuse/esdf/distance_queries.hpp"
+#include "semfuse/esdf/map_changes.hpp"
 #include "semfuse/synthetic/synthetic_sequence.hpp"
 
 namespace semfuse::server {
@@ -163,6 +165,42 @@ TEST(DistanceHandlers, BadRequestsAreRefusedWithAReason) {
   // Without a field, every service says how to get one.
   expectRefused(handleDistance({{{0, 0, 1}}}, context(nullptr)), ReplyCode::kUnavailable, "--esdf");
   expectRefused(handleOccupancySlice({}, context(nullptr)), ReplyCode::kUnavailable, "--esdf");
+}
+
+// The server's field applies a large update in slices of leaves, releasing its lock between them
+// (distance_field.cpp); once the last slice is in it holds what one apply of all the changes gives.
+TEST(DistanceHandlers, AnUpdateAppliedInSlicesEndsAsOneApply) {
+  Room& r = room();
+  esdf::EsdfParams params;
+  params.max_distance = 1.0;
+  esdf::EsdfMap whole(kVoxel, params);
+  std::size_t changed_leaves = 0;
+  r.mapper.read([&](const volume::LabeledVolume& map) {
+    esdf::MapChanges changes = esdf::copyChanges(map, 0);
+    changed_leaves = changes.leaves.size();
+    whole.apply(changes);
+    return 0;
+  });
+  ASSERT_GT(changed_leaves, 256u) << "the room must need several slices";
+  DistanceField sliced(r.mapper, kVoxel, params);  // its first update takes every leaf, in slices
+  sliced.start();
+  ASSERT_TRUE(sliced.waitUntilCurrent(30s));
+  std::vector<Eigen::Vector3d> points;
+  for (double x = -1.5; x <= 1.5; x += 0.13)
+    for (double y = 0.05; y <= 2.0; y += 0.17)
+      for (double z = -1.5; z <= 1.5; z += 0.19) points.emplace_back(x, y, z);
+  const std::vector<esdf::DistanceSample> expected = esdf::distancesAt(whole, points);
+  std::vector<esdf::DistanceSample> got;
+  sliced.read([&](const esdf::EsdfMap& field) { got = esdf::distancesAt(field, points); });
+  ASSERT_EQ(got.size(), expected.size());
+  std::size_t known = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    ASSERT_EQ(got[i].known, expected[i].known) << "point " << i;
+    if (!expected[i].known) continue;
+    ++known;
+    EXPECT_NEAR(got[i].distance, expected[i].distance, 0.25 * kVoxel) << "point " << i;
+  }
+  EXPECT_GT(known, points.size() / 10);
 }
 
 TEST(DistanceHandlers, TheFieldFollowsAResetAndALoad) {

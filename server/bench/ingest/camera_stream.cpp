@@ -11,7 +11,7 @@ namespace semfuse::bench::ingest {
 void runCamera(const Preloaded& data, const dds::Writer<FrameMsg>& writer, std::string camera_id,
                std::size_t first_index, std::chrono::steady_clock::time_point start,
                std::chrono::steady_clock::duration period, std::size_t slots, CameraResult& result,
-               std::atomic<std::size_t>* current_index) {
+               std::atomic<std::size_t>* current_index, bool with_poses) {
   using Clock = std::chrono::steady_clock;
   for (std::size_t slot = 0; slot < slots && !interrupted(); ++slot) {
     const auto due = start + period * static_cast<long>(slot);
@@ -23,7 +23,8 @@ void runCamera(const Preloaded& data, const dds::Writer<FrameMsg>& writer, std::
     const std::size_t index = (first_index + slot) % data.frames.size();
     FrameMsg msg = data.frames[index].msg();
     msg.camera_id = camera_id.data();
-    msg.seq = slot;
+    msg.seq = result.sent + result.write_failures;
+    if (!with_poses) msg.has_pose = false;
     const Stamp now = wire::stampNow();
     msg.header.stamp.sec = now.sec;
     msg.header.stamp.nanosec = now.nanosec;

@@ -1,7 +1,10 @@
 #pragma once
-// One camera of the ingest bench: frames first_index, first_index+1, ... (wrapping) at slot times
-// start + n * period. A slot that is already over when the previous write returns is skipped, not
-// sent late in a burst: a real camera does not queue its frames either.
+// One camera of the ingest and load benches: frames first_index, first_index+1, ... (wrapping) at
+// slot times start + n * period. A slot that is already over when the previous write returns is
+// skipped, not sent late in a burst: a real camera does not queue its frames either. Frames are
+// numbered by write attempt, not by slot, so a skipped slot is no gap in the sequence the server
+// sees (it would count one as a frame lost on the way). Without poses the camera sends none and
+// the server tracks it.
 #include <atomic>
 #include <chrono>
 #include <cstddef>
@@ -17,7 +20,7 @@ namespace semfuse::bench::ingest {
 using FrameMsg = semfuse_msg_dds__Frame_;
 
 struct CameraResult {
-  std::size_t sent = 0, write_failures = 0, skipped_slots = 0;
+  std::size_t sent = 0, write_failures = 0, skipped_slots = 0;  // seqs 0 .. sent + write_failures - 1
   std::vector<double> write_ms;
 };
 
@@ -26,6 +29,6 @@ struct CameraResult {
 void runCamera(const Preloaded& data, const dds::Writer<FrameMsg>& writer, std::string camera_id,
                std::size_t first_index, std::chrono::steady_clock::time_point start,
                std::chrono::steady_clock::duration period, std::size_t slots, CameraResult& result,
-               std::atomic<std::size_t>* current_index);
+               std::atomic<std::size_t>* current_index, bool with_poses);
 
 }  // namespace semfuse::bench::ingest

@@ -29,16 +29,7 @@ IngestRuns::IngestRuns(const IngestOptions& options, const Preloaded& data, dds_
       frame_topic_(participant_, dds::topics::kFrames),
       map_(participant_),
       poses_(participant_) {
-  if (!options.follow_map) return;
-  follower_ = std::make_unique<client::MapFollower>(participant_);
-  follower_->setListener([this](const client::MapFollowerChange& change) {
-    if (change.source != client::MapFollowerChange::Source::kUpdate) return;
-    const double now_ms =
-        std::chrono::duration<double, std::milli>(std::chrono::system_clock::now().time_since_epoch()).count();
-    std::lock_guard lock(updates_mutex_);
-    updates_.emplace_back(now_ms, change.state->header.frames_integrated);
-  });
-  follower_->start();
+  if (options.follow_map) follower_ = std::make_unique<FollowedUpdates>(participant_);
 }
 
 int IngestRuns::run(pid_t pid) {
@@ -101,10 +92,7 @@ Result<RunResult> IngestRuns::runOnce(pid_t pid, RssMonitor& rss, int cameras, d
   if (auto reset = map_.reset(std::chrono::seconds(30)); !reset) return makeError("reset: " + reset.error());
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
   poses_.take();  // nothing from before this run
-  {
-    std::lock_guard lock(updates_mutex_);
-    updates_.clear();
-  }
+  if (follower_) follower_->clear();
   auto before = stats();
   if (!before) return makeError(before.error());
   run.before = std::move(before).value();
@@ -126,7 +114,7 @@ Result<RunResult> IngestRuns::runOnce(pid_t pid, RssMonitor& rss, int cameras, d
     const std::size_t first = data_.frames.size() * static_cast<std::size_t>(k) / static_cast<std::size_t>(cameras);
     threads.emplace_back(runCamera, std::cref(data_), std::cref(*writers_[static_cast<std::size_t>(k)]),
                          prefix + std::to_string(k), first, start + period * k / cameras, period, slots,
-                         std::ref(results[static_cast<std::size_t>(k)]), k == 0 ? &camera0_index : nullptr);
+                         std::ref(results[static_cast<std::size_t>(k)]), k == 0 ? &camera0_index : nullptr, true);
   }
   if (with_raycast)
     raycastUntil(start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(duration_s)),
@@ -166,26 +154,11 @@ Result<RunResult> IngestRuns::runOnce(pid_t pid, RssMonitor& rss, int cameras, d
   return run;
 }
 
-// The map was reset before the run, so the i-th integrated frame is the map's i-th: its update is
-// the first one received whose map holds at least i frames.
 void IngestRuns::measureUpdates(RunResult& run) {
   std::this_thread::sleep_for(std::chrono::milliseconds(1000));  // the last round after the last frame
-  std::vector<std::pair<double, uint64_t>> updates;
-  {
-    std::lock_guard lock(updates_mutex_);
-    updates = updates_;
-  }
-  run.map_updates = updates.size();
-  std::vector<double> integrated_at;
-  for (const PoseRecord& p : run.poses)
-    if (p.integrated) integrated_at.push_back(p.received_ms);
-  std::sort(integrated_at.begin(), integrated_at.end());
-  std::size_t u = 0;
-  for (std::size_t i = 0; i < integrated_at.size(); ++i) {
-    while (u < updates.size() && updates[u].second < i + 1) ++u;
-    if (u == updates.size()) break;
-    run.update_latency_ms.add(std::max(0.0, updates[u].first - integrated_at[i]));
-  }
+  const std::vector<UpdateArrival> arrivals = follower_->arrivals();
+  run.map_updates = arrivals.size();
+  run.update_latency_ms = updateLatencies(run.poses, arrivals);  // the map was reset before the run
 }
 
 Result<client::ServerStatus> IngestRuns::drain(uint64_t expected_received) {

@@ -13,13 +13,13 @@
 #include <vector>
 
 #include "camera_stream.hpp"
+#include "followed_updates.hpp"
 #include "ingest_options.hpp"
 #include "ingest_report.hpp"
 #include "pose_collector.hpp"
 #include "preloaded_frames.hpp"
 #include "process_stats.hpp"
 #include "semfuse/client/map_client.hpp"
-#include "semfuse/client/map_follower.hpp"
 #include "semfuse/dds/participant.hpp"
 #include "semfuse/dds/topic.hpp"
 #include "semfuse/dds/writer.hpp"
@@ -51,11 +51,7 @@ class IngestRuns {
   client::MapClient map_;
   PoseCollector poses_;
   std::vector<std::unique_ptr<dds::Writer<FrameMsg>>> writers_;
-  // With --follow-map: the live mesh's follower and when each update arrived (system clock ms,
-  // frames integrated in the map it brings).
-  std::unique_ptr<client::MapFollower> follower_;
-  std::mutex updates_mutex_;
-  std::vector<std::pair<double, uint64_t>> updates_;
+  std::unique_ptr<FollowedUpdates> follower_;  // with --follow-map
 };
 
 }  // namespace semfuse::bench::ingest

@@ -36,7 +36,8 @@ void PoseCollector::loop() {
       const double sent_ms = pose.header.stamp.sec * 1e3 + pose.header.stamp.nanosec * 1e-6;
       std::lock_guard lock(mutex_);
       records_.push_back({wire::stringOf(pose.camera_id), pose.integrated, now_ms - sent_ms,
-                          static_cast<double>(pose.track_ms) + pose.integrate_ms, now_ms});
+                          static_cast<double>(pose.track_ms) + pose.integrate_ms, pose.track_ms, pose.integrate_ms,
+                          now_ms});
     }));
   }
 }

@@ -1,6 +1,7 @@
 #include "distance_field.hpp"
 
 #include <algorithm>
+#include <iterator>
 
 #include <spdlog/spdlog.h>
 
@@ -10,7 +11,9 @@
 namespace semfuse::server {
 namespace {
 constexpr std::size_t kCachedLabelSets = 8;
-}
+// Changed leaves applied per hold of the field's lock: tens of milliseconds at 1 cm.
+constexpr std::size_t kLeavesPerHold = 256;
+}  // namespace
 
 DistanceField::DistanceField(const Mapper& mapper, double voxel_size, esdf::EsdfParams params)
     : mapper_(mapper), field_(voxel_size, params) {}
@@ -64,10 +67,29 @@ void DistanceField::updateOnce() {
     return esdf::copyChanges(map, since);
   });
   if (changes.revision == since && !changes.all) return;
+  // The field's lock is taken per slice of the changed leaves, not for the whole update: at 1 cm a
+  // field that fell behind under load needs seconds to apply what changed meanwhile, and a
+  // distance query that waited out all of it got no reply within its timeout. Each slice is
+  // applied as if the map had changed that much (the field reaches the same state once the last
+  // slice is in); queries take the lock between slices, and stop() ends the update there.
   esdf::UpdateStats stats;
-  {
+  // A rebuild (the map was cleared, replaced or is new) goes in one piece: sliced, it would show
+  // queries an emptied field filling up.
+  const std::size_t total = changes.leaves.size();
+  const std::size_t per_hold = changes.all ? std::max<std::size_t>(total, 1) : kLeavesPerHold;
+  for (std::size_t first = 0; first == 0 || first < total; first += per_hold) {
+    if (first > 0 && !running_) return;  // stopping: the field stays at its last whole revision
+    const std::size_t last = std::min(total, first + per_hold);
+    esdf::MapChanges slice;
+    slice.revision = last == total ? changes.revision : since;
+    slice.all = first == 0 && changes.all;
+    slice.voxel_size = changes.voxel_size;
+    slice.leaves.assign(std::make_move_iterator(changes.leaves.begin() + static_cast<std::ptrdiff_t>(first)),
+                        std::make_move_iterator(changes.leaves.begin() + static_cast<std::ptrdiff_t>(last)));
     std::unique_lock lock(mutex_);
-    stats = field_.apply(changes);
+    const esdf::UpdateStats part = field_.apply(slice);
+    stats.leaves += part.leaves;
+    stats.rebuilt = stats.rebuilt || part.rebuilt;
   }
   revision_ = changes.revision;
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

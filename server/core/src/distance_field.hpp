@@ -3,7 +3,8 @@
 // thread of its own (sf-esdf), off the fusion thread's critical path. The Mapper tells it when
 // the map changed; the thread copies the changed leaves under the map's shared lock (the only
 // time it holds it, under a millisecond at 5 cm), then updates the field under the field's own
-// lock. Changes that arrive during an update are taken together by the next one, so a slow update
+// lock, taken per slice of 256 changed leaves so that queries and stop() wait for a slice at most,
+// not for a whole update. Changes that arrive during an update are taken together by the next one, so a slow update
 // makes the field lag (reported as lag_revisions in stats()) rather than queue work. Queries read
 // the field under its shared lock; a load or reset of the map makes the next update a rebuild.
 #include <atomic>
@@ -33,7 +34,7 @@ class DistanceField final : public DistanceSource {
   DistanceField& operator=(const DistanceField&) = delete;
 
   void start();
-  void stop();    // finishes the update in hand
+  void stop();    // finishes the slice of the update in hand
   void notify();  // the map changed (any thread)
 
   // Runs fn(field) under the field's shared lock.

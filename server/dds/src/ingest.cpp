@@ -56,16 +56,17 @@ void Ingest::run() {
       state_.errors.record("ingest", woke.error());
       continue;
     }
-    // Segmentations first: they are small and may be waited for by a frame in the same batch.
-    for (;;) {
-      auto n = segmentation_reader_.takeLoaned(
+    // Segmentations first, and again after every batch of frames: they are cheap to take and may
+    // be waited for by a frame in the same batch. Draining the frames before looking at the
+    // segmentations again starved them while cameras kept the frames reader busy (decoding is
+    // the slow part), and the segmentations reader's keep-last history then overwrote samples
+    // that no counter saw.
+    for (bool more = true; more && !stop_.triggered();) {
+      auto segmentations = segmentation_reader_.takeLoaned(
           16, [this](const semfuse_msg_dds__Segmentation_& msg, const dds_sample_info_t&) { onSegmentation(msg); });
-      if (!n.ok() || n.value() == 0) break;
-    }
-    for (;;) {
-      auto n = frame_reader_.takeLoaned(
+      auto frames = frame_reader_.takeLoaned(
           4, [this](const semfuse_msg_dds__Frame_& msg, const dds_sample_info_t&) { onFrame(msg); });
-      if (!n.ok() || n.value() == 0) break;
+      more = (segmentations.ok() && segmentations.value() > 0) || (frames.ok() && frames.value() > 0);
     }
   }
 }

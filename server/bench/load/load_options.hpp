@@ -1,0 +1,31 @@
+#pragma once
+// The command line of `semfuse-bench load` (bench_load.cpp declares the flags).
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "ingest/ingest_options.hpp"
+
+namespace semfuse::bench::load {
+
+struct LoadOptions {
+  std::string server = ingest::IngestOptions{}.server;
+  std::string data = redkitchenDir().string();
+  std::size_t frames = 500;  // preloaded 7-Scenes frames the cameras replay
+  std::string depth = "raw";
+  double duration_s = 60.0;
+  double camera_hz = 30.0;
+  int posed_cameras = 2;    // cameras that send their poses
+  int tracked_cameras = 2;  // cameras that send none: the server tracks them
+  int segmenters = 2;       // segmenter k labels camera k's frames, posed and tracked ones alternating
+  double segmenter_hz = 10.0;
+  double raycast_hz = 10.0;  // 640x480 depth + normal + label from where camera 0 is
+  double query_hz = 5.0;     // labels_at, objects and distance each
+  bool follow_map = true;    // one client::MapFollower, as a viewer
+  double query_timeout_s = 10.0;
+  int domain = -1;  // -1 = derived from the pid
+  bool check = false;
+  std::vector<std::string> server_args;
+};
+
+}  // namespace semfuse::bench::load
