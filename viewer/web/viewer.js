@@ -159,7 +159,7 @@ function onBinary(buffer) {
   else if (kind === KIND_REMOVED) { const o = new Int32Array(buffer, 4, 3); removeBlock(`${o[0]},${o[1]},${o[2]}`); }
   else if (kind === KIND_CLEARED) clearBlocks();
   else if (kind === KIND_RAYCAST) showRaycast(buffer);
-  dirty = true;
+  dataDirty = true;
 }
 
 // ---- cameras ----
@@ -208,7 +208,7 @@ function onPoses(poses) {
     view.line.geometry.dispose();
     view.line.geometry = new THREE.BufferGeometry().setFromPoints(view.path);
   }
-  dirty = true;
+  dataDirty = true;
 }
 
 // ---- panel ----
@@ -348,12 +348,23 @@ document.getElementById('shaded').addEventListener('change', (e) => {
   dirty = true;
 });
 
+// Two reasons to draw: the user (the view, the colours: draw at the next frame) and the data
+// (blocks and poses arriving several times a second: draw at most every 500 ms). Software WebGL
+// (a headless browser, a machine without a GPU) takes a core per continuous redraw.
 let dirty = true;
+let dataDirty = false;
+let lastDataDraw = 0;
 let lastFit = 0;
+let fittedBounds = '';
 function frame(t) {
   requestAnimationFrame(frame);
-  // Follow the growing map until the user moves the view.
-  if (!userMoved && t - lastFit > 500) { lastFit = t; fitView(); }
+  // Follow the growing map until the user moves the view; refit only when the map grew.
+  if (!userMoved && t - lastFit > 500) {
+    lastFit = t;
+    const key = bounds.isEmpty() ? '' : [...bounds.min.toArray(), ...bounds.max.toArray()].join(',');
+    if (key !== fittedBounds) { fittedBounds = key; fitView(); }
+  }
+  if (dataDirty && t - lastDataDraw >= 500) { dataDirty = false; lastDataDraw = t; dirty = true; }
   if (!dirty) return;
   dirty = false;
   renderer.render(scene, camera);
