@@ -1,12 +1,12 @@
-# Finds the OpenCV modules semfuse uses (core, imgproc, imgcodecs, dnn) and defines the
+# Finds the OpenCV modules semfuse uses (core, imgproc, imgcodecs, dnn, features2d, calib3d) and defines the
 # imported targets semfuse::opencv_<module>.
 #
 # Debian ships OpenCV's CMake package only in the libopencv-dev metapackage, which pulls in
-# VTK, Qt and many unused modules. The narrow libopencv-{core,imgproc,imgcodecs,dnn}-dev
+# VTK, Qt and many unused modules. The narrow libopencv-{core,imgproc,imgcodecs,dnn,features2d,calib3d}-dev
 # packages ship headers and libraries but no CMake config, so they are located here directly.
 # A full OpenCV install with its own config is used when present.
 include_guard(GLOBAL)
-set(_semfuse_opencv_modules core imgproc imgcodecs dnn)
+set(_semfuse_opencv_modules core imgproc imgcodecs dnn features2d calib3d)
 
 find_package(OpenCV 4 QUIET CONFIG COMPONENTS ${_semfuse_opencv_modules})
 if(OpenCV_FOUND)
@@ -29,7 +29,7 @@ endforeach()
 
 include(FindPackageHandleStandardArgs)
 find_package_handle_standard_args(SemfuseOpenCV REQUIRED_VARS ${_semfuse_opencv_vars}
-  REASON_FAILURE_MESSAGE "install libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev libopencv-dnn-dev (deploy/install-deps.sh)")
+  REASON_FAILURE_MESSAGE "install libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev libopencv-dnn-dev libopencv-features2d-dev libopencv-calib3d-dev (deploy/install-deps.sh)")
 
 if(SemfuseOpenCV_FOUND)
   foreach(m IN LISTS _semfuse_opencv_modules)

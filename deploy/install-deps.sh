@@ -10,6 +10,7 @@ packages=(
   cyclonedds-dev cyclonedds-tools
   libeigen3-dev
   libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev libopencv-dnn-dev
+  libopencv-features2d-dev libopencv-calib3d-dev  # tracking: ORB keypoints and PnP for relocalisation
   libjpeg62-turbo-dev
   libopenvdb-dev libtbb-dev libboost-iostreams-dev
   libspdlog-dev libfmt-dev

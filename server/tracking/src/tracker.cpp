@@ -90,7 +90,10 @@ Result<Pose> rigidGivenPose(const Pose& pose) {
 }  // namespace
 
 Tracker::Tracker(TrackerConfig config)
-    : config_(std::move(config)), aligner_(config_.alignment), keyframes_(config_.keyframes) {}
+    : config_(std::move(config)),
+      aligner_(config_.alignment),
+      keyframes_(config_.keyframes),
+      keypoints_(config_.keypoints) {}
 Tracker::~Tracker() = default;
 
 Result<TrackedFrame> Tracker::track(const Frame& frame, const SdfField& field, bool map_empty) {
@@ -132,7 +135,7 @@ Result<TrackedFrame> Tracker::track(const Frame& frame, const SdfField& field, b
     out.status = aligned.value().ok() ? TrackingStatus::kRefined : TrackingStatus::kGivenPose;
     out.pose = aligned.value().ok() ? aligned.value().pose : out.guess;
   } else {
-    Result<TrackedFrame> tracked = trackWithoutPose(field, map_empty, state);
+    Result<TrackedFrame> tracked = trackWithoutPose(frame, field, map_empty, state);
     if (!tracked) return tracked;
     out = tracked.value();
   }
@@ -156,7 +159,8 @@ Result<TrackedFrame> Tracker::track(const Frame& frame, const SdfField& field, b
   return out;
 }
 
-Result<TrackedFrame> Tracker::trackWithoutPose(const SdfField& field, bool map_empty, CameraState& state) {
+Result<TrackedFrame> Tracker::trackWithoutPose(const Frame& frame, const SdfField& field, bool map_empty,
+                                               CameraState& state) {
   TrackedFrame out;
   if (!state.placed && map_empty) {
     out.status = TrackingStatus::kInitialized;
@@ -165,8 +169,8 @@ Result<TrackedFrame> Tracker::trackWithoutPose(const SdfField& field, bool map_e
   }
   // A camera the map has not placed yet, or one that lost its way, is searched for among the
   // keyframes; its last pose is tried too (a sensor covered for a moment, a camera at rest).
-  if (!state.placed) return relocaliseConfirmed(field, state, {}, LostReason::kNotPlaced);
-  if (state.summary.lost) return relocaliseConfirmed(field, state, {state.last_pose}, LostReason::kNotPlaced);
+  if (!state.placed) return relocaliseConfirmed(frame, field, state, {}, LostReason::kNotPlaced);
+  if (state.summary.lost) return relocaliseConfirmed(frame, field, state, {state.last_pose}, LostReason::kNotPlaced);
 
   // Start from the motion the images show since the last integrated frame: it follows changes of
   // speed and direction that the constant-velocity prediction misses, by several centimetres at
@@ -208,7 +212,7 @@ Result<TrackedFrame> Tracker::trackWithoutPose(const SdfField& field, bool map_e
     out.status = TrackingStatus::kLost;
     return out;
   }
-  return relocaliseConfirmed(field, state, {aligned.value().pose, state.last_pose}, reason);
+  return relocaliseConfirmed(frame, field, state, {aligned.value().pose, state.last_pose}, reason);
 }
 
 namespace {
@@ -226,7 +230,7 @@ bool Tracker::usableImageAlignment(const OdometryResult& odometry) const {
 }
 
 bool Tracker::trusted(const Alignment& alignment, const Pose& start, double image_matched, const CameraState& state,
-                      bool allow_partial) const {
+                      bool allow_partial, int keypoint_support) const {
   // A large correction from the start (kDiverged) is no reason to doubt a pose on its own: a
   // relocalisation start from a keyframe may be far off. The agreement test below decides then.
   const bool diverged = alignment.lost_reason == LostReason::kDiverged;
@@ -244,12 +248,15 @@ bool Tracker::trusted(const Alignment& alignment, const Pose& start, double imag
   // Otherwise the map must confirm the pose on its own: most of the frame's points on the map's
   // surfaces (a wrong pose can agree well with the little of the map it overlaps), and as many of
   // the observed ones agreeing as in the camera's recent frames.
-  if (alignment.quality.inlier_ratio < config_.confirm_min_inlier_ratio) return false;
+  const double min_inlier_ratio = keypoint_support >= config_.min_keypoint_support
+                                      ? config_.confirm_min_inlier_ratio_with_keypoints
+                                      : config_.confirm_min_inlier_ratio;
+  if (alignment.quality.inlier_ratio < min_inlier_ratio) return false;
   const std::optional<double> typical = state.typicalAgreement();
   return agreement >= config_.confirm_min_agreement && (!typical || agreement >= *typical - config_.max_agreement_drop);
 }
 
-Result<TrackedFrame> Tracker::relocalise(const SdfField& field, const CameraState& state,
+Result<TrackedFrame> Tracker::relocalise(const Frame& frame, const SdfField& field, const CameraState& state,
                                          const std::vector<Pose>& extra, LostReason reason_if_not_found) {
   TrackedFrame out;
   out.status = TrackingStatus::kLost;
@@ -270,6 +277,15 @@ Result<TrackedFrame> Tracker::relocalise(const SdfField& field, const CameraStat
     starts.push_back(orthonormalized(keyframe.camera_to_world * odometry.current_from_reference.inverse()));
     matched.push_back(odometry.matched_ratio);
   }
+  // Keypoints matched one by one reach viewpoints the ferns' whole-image comparison does not.
+  const bool keypoints_tried = config_.keypoint_relocalisation && keypoints_.keyframes() > 0;
+  if (keypoints_tried) {
+    const FrameKeypoints keypoints = keypoints_.detect(frame.color, frame.depth, frame.intrinsics);
+    if (const std::optional<KeypointPose> found = keypoints_.locate(keypoints, frame.intrinsics)) {
+      starts.push_back(found->camera_to_world);
+      matched.push_back(0.0);
+    }
+  }
   for (const Pose& pose : extra) {
     starts.push_back(pose);
     matched.push_back(0.0);
@@ -281,7 +297,11 @@ Result<TrackedFrame> Tracker::relocalise(const SdfField& field, const CameraStat
   out.image_matched = matched[static_cast<std::size_t>(aligned.value().quality.start)];
   out.guess = starts[static_cast<std::size_t>(aligned.value().quality.start)];
   out.pose = aligned.value().pose;
-  if (!trusted(aligned.value(), out.guess, out.image_matched, state, /*allow_partial=*/false)) {
+  const int keypoint_support = !keypoints_tried
+                                   ? 0
+                                   : keypoints_.explained(out.pose, frame.intrinsics,
+                                                          config_.keypoint_support_px * frame.intrinsics.width / 640.0);
+  if (!trusted(aligned.value(), out.guess, out.image_matched, state, /*allow_partial=*/false, keypoint_support)) {
     if (!aligned.value().ok()) out.lost_reason = aligned.value().lost_reason;
     return out;
   }
@@ -290,9 +310,9 @@ Result<TrackedFrame> Tracker::relocalise(const SdfField& field, const CameraStat
   return out;
 }
 
-Result<TrackedFrame> Tracker::relocaliseConfirmed(const SdfField& field, CameraState& state,
+Result<TrackedFrame> Tracker::relocaliseConfirmed(const Frame& frame, const SdfField& field, CameraState& state,
                                                   const std::vector<Pose>& extra, LostReason reason_if_not_found) {
-  Result<TrackedFrame> found = relocalise(field, state, extra, reason_if_not_found);
+  Result<TrackedFrame> found = relocalise(frame, field, state, extra, reason_if_not_found);
   if (!found || found.value().status != TrackingStatus::kRelocalised) return found;
   // One relocalised frame can pass every test at a pose a few centimetres off, in a shallow
   // minimum of a scene that repeats or is seen only in part. Two frames relocalised each from
@@ -330,12 +350,15 @@ void Tracker::integrated(const Frame& frame, const TrackedFrame& tracked) {
     const std::optional<double> typical = found->second->typicalAgreement();
     if (typical && tracked.quality.observed_agreement < *typical - 0.5 * config_.max_agreement_drop) return;
   }
-  keyframes_.addIfNovel(frame.camera_id, tracked.pose, found->second->last_images);
+  if (keyframes_.addIfNovel(frame.camera_id, tracked.pose, found->second->last_images) &&
+      config_.keypoint_relocalisation)
+    keypoints_.add(keypoints_.detect(frame.color, frame.depth, frame.intrinsics), tracked.pose);
 }
 
 void Tracker::reset() {
   cameras_.clear();
   keyframes_.clear();
+  keypoints_.clear();
 }
 
 CameraTrackingSummary Tracker::camera(const std::string& camera_id) const {

@@ -19,6 +19,7 @@
 #include "semfuse/core/types.hpp"
 #include "semfuse/tracking/image_pyramid.hpp"
 #include "semfuse/tracking/keyframe_store.hpp"
+#include "semfuse/tracking/keypoint_map.hpp"
 #include "semfuse/tracking/rgbd_odometry.hpp"
 #include "semfuse/tracking/sdf_field.hpp"
 #include "semfuse/tracking/sdf_tracker.hpp"
@@ -68,6 +69,7 @@ struct TrackerConfig {
   TrackerParams alignment;
   OdometryParams odometry;
   KeyframeParams keyframes;
+  KeypointParams keypoints;
   GivenPosePolicy given_pose = GivenPosePolicy::kUseAsIs;
   // Where the first pose-less frame of an empty map is placed (the world frame's origin).
   Pose initial_pose = Pose::Identity();
@@ -85,7 +87,8 @@ struct TrackerConfig {
   //    and corrected it by little: two independent alignments agree; or
   //  - the map confirms it on its own: at least confirm_min_inlier_ratio of the frame's points
   //    lie on the map's surfaces, and the agreement is at least confirm_min_agreement and within
-  //    max_agreement_drop of the camera's recent median.
+  //    max_agreement_drop of the camera's recent median. A relocalised pose whose keypoints also
+  //    agree (see below) needs only confirm_min_inlier_ratio_with_keypoints of the points.
   // A pose that slid into a wrong minimum (after a jump or a covered sensor) has neither: the last
   // frame's images are not seen again, and a wrong pose overlaps the map little or disagrees.
   // The floor is low because agreement depends on the scene: redkitchen's frames 180-200 agree at
@@ -95,6 +98,16 @@ struct TrackerConfig {
   double max_image_correction_m = 0.03;
   double max_image_correction_rad = 0.035;  // 2 degrees
   double confirm_min_inlier_ratio = 0.6;
+  // A camera that comes back to the map from new ground sees the map with part of its image (on
+  // redkitchen 40-60 % of the points at the true pose). A scene that repeats its shape (a
+  // symmetric room) can match that much at a wrong pose too; its texture does not. So a share
+  // this low is enough only when the keyframes' keypoints matched to the frame land near their
+  // pixels at the pose: at least min_keypoint_support of them within keypoint_support_px
+  // (for 640 px wide images; generous, as colour and depth are registered only roughly on some
+  // sensors). A wrong pose of the synthetic room explains 1; the true one 30-50.
+  double confirm_min_inlier_ratio_with_keypoints = 0.4;
+  int min_keypoint_support = 20;
+  double keypoint_support_px = 20.0;
   double confirm_min_agreement = 0.75;
   double max_agreement_drop = 0.06;
   int agreement_history = 15;  // recent trusted frames the median is taken over
@@ -108,6 +121,9 @@ struct TrackerConfig {
 
   // Relocalisation: the nearest keyframes tried.
   std::size_t relocalisation_candidates = 5;
+  // Relocalisation also matches the keyframes' ORB keypoints (keypoint_map.hpp), which find a
+  // camera far from every keyframe's viewpoint; off, only the ferns' nearest keyframes are tried.
+  bool keypoint_relocalisation = true;
 
   // Frames of a camera that carries poses are considered as keyframes every this many frames
   // (a camera that tracks is considered at every integrated frame).
@@ -141,25 +157,27 @@ class Tracker {
 
  private:
   struct CameraState;
-  Result<TrackedFrame> trackWithoutPose(const SdfField& field, bool map_empty, CameraState& state);
+  Result<TrackedFrame> trackWithoutPose(const Frame& frame, const SdfField& field, bool map_empty, CameraState& state);
   // Searches the keyframes (and `extra` starts) for the frame's pose; kRelocalised or kLost.
-  Result<TrackedFrame> relocalise(const SdfField& field, const CameraState& state, const std::vector<Pose>& extra,
-                                  LostReason reason_if_not_found);
+  Result<TrackedFrame> relocalise(const Frame& frame, const SdfField& field, const CameraState& state,
+                                  const std::vector<Pose>& extra, LostReason reason_if_not_found);
   // relocalise(), and a found pose is integrated only once the next frame confirms it.
-  Result<TrackedFrame> relocaliseConfirmed(const SdfField& field, CameraState& state, const std::vector<Pose>& extra,
-                                           LostReason reason_if_not_found);
+  Result<TrackedFrame> relocaliseConfirmed(const Frame& frame, const SdfField& field, CameraState& state,
+                                           const std::vector<Pose>& extra, LostReason reason_if_not_found);
   // Whether an alignment's pose may be integrated: `start` is where it began, image_matched the
   // share of points the image alignment behind that start matched (0 when none).
   // allow_partial: a pose that depth and colour constrain only in part may pass (tracking, within
-  // the camera's budget of such frames; never relocalisation).
+  // the camera's budget of such frames; never relocalisation). keypoint_support: the keyframes'
+  // keypoints the pose explains (relocalisation only).
   bool trusted(const Alignment& alignment, const Pose& start, double image_matched, const CameraState& state,
-               bool allow_partial) const;
+               bool allow_partial, int keypoint_support = 0) const;
   bool usableImageAlignment(const OdometryResult& odometry) const;
 
   TrackerConfig config_;
   SdfTracker aligner_;           // keeps its buffers between frames
   ImagePyramid current_images_;  // of the frame being tracked
   KeyframeStore keyframes_;
+  KeypointMap keypoints_;  // of the keyframes, in the same order
   std::map<std::string, std::unique_ptr<CameraState>> cameras_;
 };
 
