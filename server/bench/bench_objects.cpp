@@ -7,13 +7,15 @@
 // in tree order, marked written since the last query, as a stretch of frames marks what they
 // integrated: those leaves and their neighbours are re-scanned, the rest of the surface comes
 // from the tracker's cache; grouping, ids and figures are redone whole). The surface extraction
-// alone, timed in the same run, is the floor under the first query's cost.
+// alone, timed in the same run, is the floor under the first query's cost. --picture draws the
+// objects of the map from a given pose (objects/objects_picture.hpp).
 #include <cstdio>
 #include <memory>
 #include <string>
 
 #include "bench_registry.hpp"
 #include "bench_support.hpp"
+#include "objects/objects_picture.hpp"
 #include "semfuse/core/legend.hpp"
 #include "semfuse/objects/object_tracker.hpp"
 #include "semfuse/objects/surface_voxels.hpp"
@@ -30,8 +32,59 @@ struct ObjectsBenchOptions {
   double scale = 0.5;  // of the 640x480 camera
   double voxel = 0.02;
   std::size_t repeats = 10;
-  double changed = 0.1;  // share of the leaves written between two queries
+  double changed = 0.1;       // share of the leaves written between two queries
+  std::string picture;        // PNG of the objects, from picture_pose
+  std::string picture_pose;   // 4x4 camera-to-world matrix file; empty: looking at the map from above its box
+  double picture_back = 0.0;  // metres the picture's camera is moved back along its optical axis
 };
+
+// Where the picture is taken from without a pose file: above the map's box, two thirds of its
+// diagonal away, looking down at its centre at 60 degrees.
+Pose overviewPose(const volume::LabeledVolume& map, const Eigen::Vector3d& up_hint) {
+  openvdb::CoordBBox box = map.geometryGrid().evalActiveVoxelBoundingBox();
+  const Eigen::Vector3d lo = map.indexToWorld(box.min()), hi = map.indexToWorld(box.max());
+  const Eigen::Vector3d centre = 0.5 * (lo + hi);
+  const Eigen::Vector3d up = up_hint.norm() > 0.5 ? up_hint.normalized() : Eigen::Vector3d::UnitZ();
+  Eigen::Vector3d side = up.unitOrthogonal();
+  const double distance = 0.66 * (hi - lo).norm();
+  const Eigen::Vector3d eye = centre + distance * (std::sin(M_PI / 3) * up + std::cos(M_PI / 3) * side);
+  const Eigen::Vector3d forward = (centre - eye).normalized();
+  const Eigen::Vector3d right = forward.cross(up).normalized();
+  Pose pose = Pose::Identity();
+  pose.linear().col(0) = right;
+  pose.linear().col(1) = forward.cross(right);  // image y down
+  pose.linear().col(2) = forward;
+  pose.translation() = eye;
+  return pose;
+}
+
+int writePicture(const volume::LabeledVolume& map, const LabelLegend& legend, const ObjectsBenchOptions& o) {
+  objects::ObjectParams params;
+  params.up_from_floor = true;
+  objects::ObjectTracker tracker(params, legend, map.voxelSize());
+  const auto set = tracker.objectsOf(std::make_shared<const volume::LabeledVolume>(map.deepCopy()));
+  Pose pose = overviewPose(map, set->up);
+  if (!o.picture_pose.empty()) {
+    auto read = readPoseMatrix(o.picture_pose);
+    if (!read) {
+      std::fprintf(stderr, "semfuse-bench objects: %s\n", read.error().c_str());
+      return 2;
+    }
+    pose = read.value();
+  }
+  pose.translation() -= o.picture_back * pose.linear().col(2);
+  const PinholeIntrinsics wide{960, 720, 520.0, 520.0, 479.5, 359.5};  // 85 degrees across
+  auto written = writeObjectsPicture(map, *set, legend, pose, wide, o.picture);
+  if (!written) {
+    std::fprintf(stderr, "semfuse-bench objects: %s\n", written.error().c_str());
+    return 1;
+  }
+  std::size_t objects = 0;
+  for (const auto& object : set->objects) objects += object.fragment ? 0 : 1;
+  std::printf("picture %s: %d of %zu objects in view, %.0f %% of the surface in view on an object\n", o.picture.c_str(),
+              written.value().objects_in_view, objects, 100.0 * written.value().covered);
+  return 0;
+}
 
 // A contiguous `share` of the map's leaves, starting at leaf `first` (wrapping), marked written.
 void markLeavesChanged(volume::LabeledVolume& map, double share, std::size_t first) {
@@ -89,6 +142,7 @@ int runObjectsBench(const ObjectsBenchOptions& o) {
     }
     map = std::move(built).value();
   }
+  if (!o.picture.empty()) return writePicture(map, legend, o);
   // As the server's: up from the floor where the legend has one and the map enough of it.
   objects::ObjectParams params;
   params.up_from_floor = true;
@@ -141,6 +195,13 @@ const bool registered = registerBench("objects", "objects query time on the synt
   command.add_option("--changed", options->changed, "share of the leaves written between two queries")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
+  command.add_option("--picture", options->picture,
+                     "instead of timing, write a PNG of the objects, each id its colour, named by class and id");
+  command.add_option("--picture-pose", options->picture_pose,
+                     "the picture's camera: a file with a 4x4 camera-to-world matrix (a 7-Scenes frame-*.pose.txt); "
+                     "default: from above the map");
+  command.add_option("--picture-back", options->picture_back, "move the picture's camera back this far, metres")
+      ->capture_default_str();
   return [options] { return runObjectsBench(*options); };
 });
 

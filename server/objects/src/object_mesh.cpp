@@ -8,11 +8,9 @@
 #include <tbb/parallel_for.h>
 
 namespace semfuse::objects {
-namespace {
 
-// The id of the surface voxel nearest to p among the 3^3 around its nearest voxel (0 = none).
-int32_t nearestId(const openvdb::tree::ValueAccessor<const openvdb::Int32Tree>& ids, const Eigen::Vector3f& p,
-                  float voxel_size) {
+int32_t objectIdNear(const openvdb::tree::ValueAccessor<const openvdb::Int32Tree>& ids, const Eigen::Vector3f& p,
+                     float voxel_size) {
   const Eigen::Vector3f index = p / voxel_size;
   const openvdb::Coord centre(static_cast<int>(std::floor(index.x() + 0.5f)),
                               static_cast<int>(std::floor(index.y() + 0.5f)),
@@ -31,8 +29,6 @@ int32_t nearestId(const openvdb::tree::ValueAccessor<const openvdb::Int32Tree>& 
   return best;
 }
 
-}  // namespace
-
 Result<render::LabeledMesh> objectMesh(const volume::LabeledVolume& map, const openvdb::Int32Tree& ids, uint32_t id,
                                        const Eigen::Vector3d& bbox_min, const Eigen::Vector3d& bbox_max) {
   const double margin = 2.0 * map.voxelSize();
@@ -50,7 +46,7 @@ Result<render::LabeledMesh> objectMesh(const volume::LabeledVolume& map, const o
                     [&](const tbb::blocked_range<std::size_t>& range) {
                       openvdb::tree::ValueAccessor<const openvdb::Int32Tree> accessor(ids);
                       for (std::size_t v = range.begin(); v != range.end(); ++v)
-                        on_object[v] = nearestId(accessor, mesh.vertices[v], voxel) == static_cast<int32_t>(id);
+                        on_object[v] = objectIdNear(accessor, mesh.vertices[v], voxel) == static_cast<int32_t>(id);
                     });
 
   render::LabeledMesh out;
