@@ -86,6 +86,22 @@ def test_objects_are_the_two_labeled_halves(wall) -> None:
     assert [o.label for o in client.objects(label=BOX, min_voxels=100)] == [BOX]
 
 
+def test_object_events_tell_which_objects_appeared(wall) -> None:
+    _, client = wall
+    ids = {o.id: o.label for o in client.objects(min_voxels=100)}
+    appeared: dict[int, int] = {}
+    for update in client.take_object_events(timeout=5.0):
+        assert update.update >= 1 and update.stamp > 0
+        for event in update.events:
+            assert event.kind in ("appeared", "merged", "split", "vanished")
+            if event.kind == "appeared":
+                appeared[event.id] = event.label
+    assert {i: appeared.get(i) for i in ids} == ids
+    assert client.rejected_object_events == 0
+    # Nothing changed since: no new update.
+    assert client.take_object_events(timeout=0.0) == []
+
+
 def test_the_mesh_comes_as_arrays_and_as_ply(wall, tmp_path: Path) -> None:
     _, client = wall
     legend = client.legend()

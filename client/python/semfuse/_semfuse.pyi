@@ -288,6 +288,30 @@ class ObjectInstance:
     @property
     def mean_confidence(self) -> float: ...
 
+class ObjectEvent:
+    """One change of the map's objects."""
+
+    @property
+    def kind(self) -> str: ...
+    @property
+    def id(self) -> int: ...
+    @property
+    def label(self) -> int: ...
+    @property
+    def others(self) -> list[int]: ...
+
+class ObjectEvents:
+    """The events of one update of the map's objects."""
+
+    @property
+    def update(self) -> int: ...
+    @property
+    def stamp(self) -> float: ...
+    @property
+    def object_count(self) -> int: ...
+    @property
+    def events(self) -> list[ObjectEvent]: ...
+
 class Mesh:
     """The map's mesh as arrays and as the PLY file the server sent."""
 
@@ -401,6 +425,10 @@ class MapClient:
         """Calls `callback(pose)` on a thread of its own for every pose, until the subscription is closed."""
     @property
     def rejected_poses(self) -> int: ...
+    def take_object_events(self, timeout: float = 0.0) -> list[ObjectEvents]:
+        """The updates of the map's objects since the last call, waiting up to `timeout` seconds for the first."""
+    @property
+    def rejected_object_events(self) -> int: ...
 
 class SegmenterStats:
     """What a Segmenter did so far."""

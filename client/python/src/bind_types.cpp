@@ -1,5 +1,5 @@
-// The value types: intrinsics, the server's poses, status and legend, and the query results that
-// are not plain arrays (region, objects, mesh).
+// The value types: intrinsics, the server's poses, status and legend, the query results that
+// are not plain arrays (region, objects, mesh) and the objects' events.
 #include <pybind11/stl.h>
 
 #include <fstream>
@@ -305,6 +305,31 @@ void bindQueryResults(py::module_& m) {
       });
 }
 
+void bindObjectEvents(py::module_& m) {
+  py::class_<ObjectEvent>(m, "ObjectEvent", "One change of the map's objects.")
+      .def_property_readonly(
+          "kind", [](const ObjectEvent& e) { return std::string(objectEventKindName(e.kind)); },
+          "'appeared', 'merged', 'split' or 'vanished'.")
+      .def_readonly("id", &ObjectEvent::id, "The object the event is about.")
+      .def_readonly("label", &ObjectEvent::label, "Its class.")
+      .def_readonly("others", &ObjectEvent::others,
+                    "merged: the ids that joined `id` and are gone; split: the new ids that came apart from it.")
+      .def("__repr__", [](const ObjectEvent& e) {
+        return "semfuse.ObjectEvent(kind='" + std::string(objectEventKindName(e.kind)) +
+               "', id=" + std::to_string(e.id) + ", label=" + std::to_string(e.label) + ")";
+      });
+  py::class_<ObjectEvents>(m, "ObjectEvents", "The events of one update of the map's objects.")
+      .def_readonly("update", &ObjectEvents::update, "1, 2, ... since the server started.")
+      .def_property_readonly(
+          "stamp", [](const ObjectEvents& e) { return e.stamp.seconds(); }, "Wall clock of the update, seconds.")
+      .def_readonly("object_count", &ObjectEvents::object_count, "Objects after it (fragments not counted).")
+      .def_readonly("events", &ObjectEvents::events)
+      .def("__repr__", [](const ObjectEvents& e) {
+        return "semfuse.ObjectEvents(update=" + std::to_string(e.update) +
+               ", events=" + std::to_string(e.events.size()) + ")";
+      });
+}
+
 }  // namespace
 
 void bindTypes(py::module_& m) {
@@ -313,6 +338,7 @@ void bindTypes(py::module_& m) {
   bindStatus(m);
   bindLegend(m);
   bindQueryResults(m);
+  bindObjectEvents(m);
 }
 
 }  // namespace semfuse::python

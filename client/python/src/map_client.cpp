@@ -247,6 +247,12 @@ class MapClient {
     return std::make_unique<PoseSubscription>(source_, std::move(callback));
   }
   uint64_t rejectedPoses() const { return source_->client->rejectedPoses(); }
+  std::vector<ObjectEvents> takeObjectEvents(double timeout_s) {
+    const auto t = toTimeout(timeout_s, Timeout(0));
+    py::gil_scoped_release release;
+    return client().takeObjectEvents(t);
+  }
+  uint64_t rejectedObjectEvents() const { return source_->client->rejectedObjectEvents(); }
   double timeoutSeconds() const { return timeout_.count() / 1000.0; }
   int domain() const { return static_cast<int>(participant_->domain()); }
 
@@ -337,6 +343,14 @@ returned subscription is closed. An exception in the callback is logged and coun
 subscription is open, take_poses() and poses() raise RuntimeError: each pose is delivered once.
 )doc")
       .def_property_readonly("rejected_poses", &MapClient::rejectedPoses, "Poses that failed to decode.")
+      .def("take_object_events", &MapClient::takeObjectEvents, py::arg("timeout") = 0.0, R"doc(
+The updates of the map's objects published since the last call: objects that appeared, merged,
+split or vanished (the server regroups its objects when a client asks for them). The first call
+subscribes and gets the server's last 16 updates; a call waits up to ``timeout`` seconds for the
+first when none is waiting.
+)doc")
+      .def_property_readonly("rejected_object_events", &MapClient::rejectedObjectEvents,
+                             "Object event updates that failed to decode.")
       .def("__repr__",
            [](const MapClient& c) { return "semfuse.MapClient(domain_id=" + std::to_string(c.domain()) + ")"; });
 }
