@@ -75,13 +75,20 @@ bool sameValue(const std::string& a, const std::string& b) {
 class FoxgloveInterop : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    // npm ci into the build tree, from the committed lockfile, once per build directory.
-    if (fs::exists(kNodeDir / "node_modules/@foxglove/rosmsg2-serialization")) return;
+    // npm ci into the build tree, from the committed lockfile, once per build directory. Each test
+    // is a process of its own and ctest may start two at once (RESOURCE_LOCK did not keep them
+    // apart in a CI run: both ran `npm ci`, and one failed removing what the other wrote), so the
+    // install runs under a file lock and is skipped by whoever comes second. The marker is written
+    // once npm ci has finished, so a test never starts on half the modules.
+    const fs::path marker = kNodeDir / "npm-ci.done";
+    if (fs::exists(marker)) return;
     fs::create_directories(kNodeDir);
-    for (const char* f : {"package.json", "package-lock.json"})
-      fs::copy_file(kSourceDir / f, kNodeDir / f, fs::copy_options::overwrite_existing);
-    const int code = runCommand("npm ci --no-audit --no-fund --prefix " + kNodeDir.string(), kNodeDir / "npm.out",
-                                kNodeDir / "npm.err");
+    const std::string install = "test -f '" + marker.string() + "' || { cp '" + (kSourceDir / "package.json").string() +
+                                "' '" + (kSourceDir / "package-lock.json").string() + "' '" + kNodeDir.string() +
+                                "/' && npm ci --no-audit --no-fund --prefix '" + kNodeDir.string() + "' && touch '" +
+                                marker.string() + "'; }";
+    const int code = runCommand("flock '" + (kNodeDir / "npm.lock").string() + "' sh -c \"" + install + "\"",
+                                kNodeDir / "npm.out", kNodeDir / "npm.err");
     setup_error_ =
         code == 0 ? "" : "npm ci failed (npm's registry must be reachable):\n" + tail(readFile(kNodeDir / "npm.err"));
   }
