@@ -75,7 +75,11 @@ say "outsider: 0 frames in; wrong role: writer refused (exit $rc), 0 frames in; 
 if [[ $captured -eq 0 ]]; then
   say "no tcpdump: encryption check skipped (apt-get install tcpdump)"
 else
-  plain_domain=$(( domain + 1 ))
+  # A domain of its own, reserved like the test's (the next id may be another test's).
+  secure_domain=$domain
+  reserve_test_domain
+  plain_domain=$domain
+  domain=$secure_domain
   CYCLONEDDS_URI="file://$source_dir/deploy/dds/localhost.xml" launch plain-server "$server_exe" --domain-id "$plain_domain" \
     --legend synthetic --voxel-size 0.04 --truncation 0.16
   capture "$work/plain.pcap" "$plain_domain" || fail "tcpdump captured the secure run but not the plaintext one"

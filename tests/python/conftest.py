@@ -50,6 +50,11 @@ def _reserve_test_domain() -> int:
 DOMAIN = _reserve_test_domain()
 
 
+def reserve_another_domain() -> int:
+    """One more domain held by this process: for a test that needs a domain no server is on."""
+    return _reserve_test_domain()
+
+
 def program(variable: str) -> str:
     path = os.environ.get(variable)
     if not path or not Path(path).is_file():

@@ -164,7 +164,8 @@ TEST(DistanceEndToEnd, ServesTheDistanceFieldAndPublishesTheOccupancyGrid) {
 }
 
 TEST(DistanceEndToEnd, WithoutEsdfTheServicesSaySo) {
-  ServerHarness h(serverTestDomain() + 1);
+  // A domain of its own (the next id may be another test process's).
+  ServerHarness h(static_cast<dds_domainid_t>(reserveAnotherTestDomain()));
   h.startServer({"--legend", "synthetic", "--autosave-period", "0"});
   client::MapClient map(h.participant());
   auto reply = map.distances({{0.0, 0.0, 1.0}}, 10s);

@@ -14,24 +14,28 @@
 
 namespace semfuse::testing {
 
+// A free domain, held until the process exits; every call takes another one.
+inline int reserveAnotherTestDomain() {
+  const std::string folder = "/tmp/semfuse-domains";
+  ::mkdir(folder.c_str(), 0777);
+  ::chmod(folder.c_str(), 01777);          // several users on one host share it; best effort
+  constexpr int kFirst = 1, kCount = 230;  // Cyclone takes ids 0..232; 0 is everyone's default
+  const int start = static_cast<int>(::getpid() % kCount);
+  for (int k = 0; k < kCount; ++k) {
+    const int id = kFirst + (start + k) % kCount;
+    const std::string lock = folder + "/" + std::to_string(id) + ".lock";
+    // O_CLOEXEC: the servers a test starts must not keep its domain after the test ends.
+    const int fd = ::open(lock.c_str(), O_CREAT | O_RDWR | O_CLOEXEC, 0666);
+    if (fd < 0) continue;
+    if (::flock(fd, LOCK_EX | LOCK_NB) == 0) return id;  // held until the process exits
+    ::close(fd);
+  }
+  throw std::runtime_error("no free DDS test domain under " + folder);
+}
+
+// The process's domain, reserved on first use.
 inline int reserveTestDomain() {
-  static const int domain = [] {
-    const std::string folder = "/tmp/semfuse-domains";
-    ::mkdir(folder.c_str(), 0777);
-    ::chmod(folder.c_str(), 01777);          // several users on one host share it; best effort
-    constexpr int kFirst = 1, kCount = 230;  // Cyclone takes ids 0..232; 0 is everyone's default
-    const int start = static_cast<int>(::getpid() % kCount);
-    for (int k = 0; k < kCount; ++k) {
-      const int id = kFirst + (start + k) % kCount;
-      const std::string lock = folder + "/" + std::to_string(id) + ".lock";
-      // O_CLOEXEC: the servers a test starts must not keep its domain after the test ends.
-      const int fd = ::open(lock.c_str(), O_CREAT | O_RDWR | O_CLOEXEC, 0666);
-      if (fd < 0) continue;
-      if (::flock(fd, LOCK_EX | LOCK_NB) == 0) return id;  // held until the process exits
-      ::close(fd);
-    }
-    throw std::runtime_error("no free DDS test domain under " + folder);
-  }();
+  static const int domain = reserveAnotherTestDomain();
   return domain;
 }
 
