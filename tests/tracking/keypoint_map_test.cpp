@@ -4,7 +4,6 @@
 // apart from the true one.
 #include <algorithm>
 #include <cmath>
-#include <random>
 
 #include <gtest/gtest.h>
 #include <opencv2/features2d.hpp>
@@ -20,7 +19,6 @@ namespace semfuse::tracking::testing {
 namespace {
 
 TEST(HammingMatch, NearestTwoAreThoseOpenCvsMatcherFinds) {
-  std::mt19937 random(7);
   cv::Mat query(300, 32, CV_8UC1), train(2000, 32, CV_8UC1);
   cv::randu(query, 0, 256);
   cv::randu(train, 0, 256);

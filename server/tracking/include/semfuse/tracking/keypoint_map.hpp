@@ -46,8 +46,8 @@ struct FrameKeypoints {
 
 struct KeypointPose {
   Pose camera_to_world = Pose::Identity();
-  std::size_t keyframe = 0;  // whose points it explains
-  int matches = 0;           // matched to that keyframe
+  std::size_t keyframe = 0;  // the keyframe with most votes among those whose points it explains
+  int matches = 0;           // matched to those keyframes' points
   int inliers = 0;           // of them, explained by the pose
 };
 
