@@ -8,101 +8,49 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include "mesh_cells.hpp"
+#include "block_cells.hpp"
+#include "block_voxels.hpp"
 #include "mesh_vertex.hpp"
 
 namespace semfuse::render {
 namespace {
 
+using detail::BlockCells;
+using detail::BlockVoxels;
 using detail::CellCorners;
 using detail::CellTopology;
-constexpr int kDim = detail::kLeafDim;  // voxels per block side
-constexpr int kSpan = kDim + 2;         // voxels per side a block reads
-constexpr int kCells = kDim + 1;        // cells per side whose vertices a block may use
+constexpr int kDim = detail::kLeafDim;       // voxels per block side
+constexpr int kCells = detail::kBlockCells;  // cells per side whose vertices a block may use
 constexpr std::size_t kBlocksPerTask = 8;
 
-// The voxels [0, 10)^3 from a block's origin, read in place from its leaf and the seven above.
-class BlockVoxels {
- public:
-  // False when the block's own leaf is not allocated: then none of its cells is observed.
-  bool gather(const volume::GeometryGrid::ConstAccessor& geometry, const volume::ColorGrid::ConstAccessor* colors,
-              const openvdb::Coord& origin) {
-    for (int a = 0; a < 2; ++a)
-      for (int b = 0; b < 2; ++b)
-        for (int c = 0; c < 2; ++c) {
-          const openvdb::Coord at = origin.offsetBy(a * kDim, b * kDim, c * kDim);
-          const auto* leaf = geometry.probeConstLeaf(at);
-          voxels_[a][b][c] = leaf ? leaf->buffer().data() : nullptr;
-          const auto* color_leaf = colors ? colors->probeConstLeaf(at) : nullptr;
-          colors_[a][b][c] = color_leaf ? color_leaf->buffer().data() : nullptr;
-        }
-    return voxels_[0][0][0] != nullptr;
-  }
-  volume::PackedVoxel at(int x, int y, int z) const {
-    const volume::PackedVoxel* data = voxels_[x >> 3][y >> 3][z >> 3];
-    return data ? data[detail::leafOffset(x & 7, y & 7, z & 7)] : volume::kUnobservedVoxel;
-  }
-  volume::Rgb8 color(int x, int y, int z) const {
-    const volume::PackedColor* data = colors_[x >> 3][y >> 3][z >> 3];
-    return data ? volume::unpackColor(data[detail::leafOffset(x & 7, y & 7, z & 7)]) : volume::Rgb8{};
-  }
-
- private:
-  const volume::PackedVoxel* voxels_[2][2][2];  // [x / 8][y / 8][z / 8]
-  const volume::PackedColor* colors_[2][2][2];
-};
-
-// One block's surface nets, in the block's own coordinates.
+// One block's surface nets, in the block's own coordinates, from its classified cells.
 class BlockMesher {
  public:
-  BlockMesher(const BlockVoxels& voxels, bool with_colors, float voxel_size, BlockMesh& out)
-      : voxels_(voxels), with_colors_(with_colors), voxel_size_(voxel_size), origin_(out.origin), mesh_(out.mesh) {
-    classify();
+  BlockMesher(const BlockVoxels& voxels, const BlockCells& cells, bool with_colors, float voxel_size, BlockMesh& out)
+      : voxels_(voxels),
+        cells_(cells),
+        with_colors_(with_colors),
+        voxel_size_(voxel_size),
+        origin_(out.origin),
+        mesh_(out.mesh) {
     first_vertex_.fill(-1);
     // The block's own cells first, in order, so that its own vertices come first.
-    for (int x = 0; x < kDim; ++x)
-      for (int y = 0; y < kDim; ++y)
-        for (int z = 0; z < kDim; ++z)
-          if (isSurface(x, y, z)) addVertices(x, y, z);
+    forEachOwnSurfaceCell([this](int x, int y, int z) { addVertices(x, y, z); });
     out.own_vertices = static_cast<uint32_t>(mesh_.vertices.size());
-    for (int x = 0; x < kDim; ++x)
-      for (int y = 0; y < kDim; ++y)
-        for (int z = 0; z < kDim; ++z)
-          if (isSurface(x, y, z)) addQuads(x, y, z);
+    forEachOwnSurfaceCell([this](int x, int y, int z) { addQuads(x, y, z); });
   }
 
  private:
-  // Bit z of [x][y]: voxel (x, y, z) is observed / observed and inside; then which cells carry
-  // a vertex, as in mesh_cells.cpp: all 8 corners observed, some but not all inside.
-  void classify() {
-    std::array<std::array<uint16_t, kSpan>, kSpan> observed{}, inside{};
-    for (int x = 0; x < kSpan; ++x)
-      for (int y = 0; y < kSpan; ++y)
-        for (int z = 0; z < kSpan; ++z) {
-          const volume::PackedVoxel v = voxels_.at(x, y, z);
-          if (!volume::isObserved(v)) continue;
-          observed[x][y] |= static_cast<uint16_t>(1u << z);
-          if (detail::insideBits(v)) inside[x][y] |= static_cast<uint16_t>(1u << z);
-        }
-    inside_ = inside;
-    for (int x = 0; x < kCells; ++x)
-      for (int y = 0; y < kCells; ++y) {
-        unsigned all_observed = 0x3FF, any_inside = 0, all_inside = 0x3FF;
-        for (int dx = 0; dx < 2; ++dx)
-          for (int dy = 0; dy < 2; ++dy) {
-            all_observed &= observed[x + dx][y + dy];
-            any_inside |= inside[x + dx][y + dy];
-            all_inside &= inside[x + dx][y + dy];
-          }
-        all_observed &= all_observed >> 1;  // bit z: voxels z and z + 1
-        any_inside |= any_inside >> 1;
-        all_inside &= all_inside >> 1;
-        surface_[x][y] = static_cast<uint16_t>(all_observed & any_inside & ~all_inside & 0x1FFu);
-      }
+  // In x, y, z order, visiting only the set bits.
+  template <class Fn>
+  void forEachOwnSurfaceCell(Fn&& fn) const {
+    for (int x = 0; x < kDim; ++x)
+      for (int y = 0; y < kDim; ++y)
+        for (unsigned bits = cells_.surface[x][y] & 0xFFu; bits != 0; bits &= bits - 1) fn(x, y, __builtin_ctz(bits));
   }
 
-  bool isSurface(int x, int y, int z) const { return ((surface_[x][y] >> z) & 1u) != 0; }
-  bool isInside(int x, int y, int z) const { return ((inside_[x][y] >> z) & 1u) != 0; }
+  bool isSurface(int x, int y, int z) const { return cells_.isSurface(x, y, z); }
+  bool isInside(int x, int y, int z) const { return cells_.isInside(x, y, z); }
   static int cellIndex(int x, int y, int z) { return (x * kCells + y) * kCells + z; }
 
   CellCorners corners(int x, int y, int z) const {
@@ -110,13 +58,6 @@ class BlockMesher {
     for (int k = 0; k < 8; ++k) c.packed[k] = voxels_.at(x + (k & 1), y + ((k >> 1) & 1), z + ((k >> 2) & 1));
     detail::fillCorners(c);
     return c;
-  }
-  // Bit k: corner k of cell (x, y, z) is inside (the same bits as insideMask of its corners).
-  uint8_t insideCorners(int x, int y, int z) const {
-    uint8_t mask = 0;
-    for (int k = 0; k < 8; ++k)
-      if (isInside(x + (k & 1), y + ((k >> 1) & 1), z + ((k >> 2) & 1))) mask |= static_cast<uint8_t>(1u << k);
-    return mask;
   }
   static uint8_t insideMask(const CellCorners& c) {
     uint8_t mask = 0;
@@ -154,7 +95,7 @@ class BlockMesher {
   uint32_t edgeVertex(int x, int y, int z, int k, int axis) {
     int& first = first_vertex_[static_cast<std::size_t>(cellIndex(x, y, z))];
     if (first < 0) addVertices(x, y, z);
-    const int group = detail::cellTopology(insideCorners(x, y, z)).group[k][axis];
+    const int group = detail::cellTopology(cells_.insideCorners(x, y, z)).group[k][axis];
     return static_cast<uint32_t>(first + std::max(group, 0));
   }
 
@@ -205,14 +146,13 @@ class BlockMesher {
   }
 
   const BlockVoxels& voxels_;
+  const BlockCells& cells_;
   bool with_colors_;
   float voxel_size_;
   openvdb::Coord origin_;
   LabeledMesh& mesh_;
-  std::vector<Eigen::Vector3f> world_;                          // per vertex
-  std::array<std::array<uint16_t, kCells>, kCells> surface_{};  // bit z: cell (x, y, z) carries a vertex
-  std::array<std::array<uint16_t, kSpan>, kSpan> inside_{};     // bit z: voxel observed and inside
-  std::array<int, kCells * kCells * kCells> first_vertex_{};    // -1: no vertex yet
+  std::vector<Eigen::Vector3f> world_;                        // per vertex
+  std::array<int, kCells * kCells * kCells> first_vertex_{};  // -1: no vertex yet
 };
 
 }  // namespace
@@ -241,8 +181,11 @@ std::vector<BlockMesh> extractBlockMeshes(const volume::LabeledVolume& volume,
                       BlockVoxels voxels;
                       for (std::size_t i = range.begin(); i < range.end(); ++i) {
                         blocks[i].origin = origins[i];
-                        if (!voxels.gather(geometry, colors ? &*colors : nullptr, origins[i])) continue;
-                        BlockMesher{voxels, with_colors, voxel_size, blocks[i]};
+                        if (!voxels.gather(geometry, origins[i])) continue;
+                        const BlockCells cells = detail::classifyBlockCells(voxels);
+                        if (!cells.hasOwnSurface()) continue;  // most blocks an update re-meshes
+                        if (colors) voxels.gatherColors(*colors, origins[i]);
+                        BlockMesher{voxels, cells, with_colors, voxel_size, blocks[i]};
                       }
                     });
   return blocks;
