@@ -2,6 +2,7 @@
 // rounds on a map that grows, is cleared and is replaced, the parts of a large update, the idle
 // updater that catches up, and a follower that applies what it was sent ending with the server's
 // mesh. The map is the synthetic room fused from a few small views.
+#include <limits>
 #include <map>
 #include <shared_mutex>
 #include <vector>
@@ -197,6 +198,32 @@ TEST(MeshBlockStore, PagesCoverEveryBlockOnceWithinTheirBound) {
   }
   ASSERT_EQ(seen.size(), 50u);
   for (int i = 0; i < 50; ++i) EXPECT_EQ(seen[static_cast<std::size_t>(i)], (BlockOrigin{8 * i, -8, 0}));
+}
+
+// Positions in 1/4096 voxel and normals in 1/127, rounded to nearest with halves away from zero,
+// clamped to what the wire types hold.
+TEST(MeshBlockEncoding, RoundsToTheNearestUnitAndClamps) {
+  render::BlockMesh mesh;
+  mesh.origin = openvdb::Coord(8, -16, 24);
+  mesh.own_vertices = 2;
+  const float half_unit = 0.5F / MeshBlock::kPositionScale;
+  mesh.mesh.vertices = {{half_unit, 3.0F * half_unit, 9.0F}, {-0.25F, 0.49F / MeshBlock::kPositionScale, 20.0F}};
+  mesh.mesh.normals = {{0.5F / 127.0F, -0.5F / 127.0F, 1.0F}, {-1.0F, std::numeric_limits<float>::quiet_NaN(), 0.6F}};
+  mesh.mesh.labels = {3, 4};
+  mesh.mesh.scores = {0.5F, 0.25F};
+  mesh.mesh.triangles = {{0, 1, 0}};
+  const MeshBlock block = encodeMeshBlock(mesh, 7);
+
+  EXPECT_EQ(block.origin, (BlockOrigin{8, -16, 24}));
+  EXPECT_EQ(block.revision, 7u);
+  EXPECT_EQ(block.own_vertices, 2u);
+  // 0.5 and 1.5 units round up; 9 voxels are 36864 units; below 0 and beyond 65535 are clamped.
+  EXPECT_EQ(block.positions, (std::vector<uint16_t>{1, 2, 36864, 0, 0, 65535}));
+  // 0.6 * 127 = 76.2; a NaN component is 0.
+  EXPECT_EQ(block.normals, (std::vector<int8_t>{1, -1, 127, -127, 0, 76}));
+  EXPECT_EQ(block.labels, (std::vector<LabelId>{3, 4}));
+  EXPECT_EQ(block.triangles, (std::vector<uint16_t>{0, 1, 0}));
+  EXPECT_TRUE(block.colors.empty());
 }
 
 TEST(MapBlocksHandler, RefusesWhatItCannotServe) {

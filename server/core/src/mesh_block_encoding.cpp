@@ -6,14 +6,23 @@
 namespace semfuse::server {
 namespace {
 
+// std::lround of a float in [0, 65535] without the library call (six per vertex add up over
+// thousands of blocks a round): x + 0.5 in double keeps every bit of x that could change the
+// floor, and truncating a non-negative value floors it, so halves round up as lround's do.
+long roundNonNegative(float x) { return static_cast<long>(static_cast<double>(x) + 0.5); }
+
 uint16_t positionUnits(float voxels) {
   // A block's vertices lie in [0, 9] voxels from its origin, 36864 units at most.
-  return static_cast<uint16_t>(std::clamp(std::lround(voxels * MeshBlock::kPositionScale), 0L, 65535L));
+  const float units = voxels * MeshBlock::kPositionScale;
+  if (!(units > 0.0F)) return 0;
+  return static_cast<uint16_t>(units >= 65535.0F ? 65535L : roundNonNegative(units));
 }
 
 int8_t normalUnits(float component) {
   if (!std::isfinite(component)) return 0;
-  return static_cast<int8_t>(std::clamp(std::lround(component * 127.0F), -127L, 127L));
+  const float units = component * 127.0F;
+  const long magnitude = std::min(roundNonNegative(std::min(std::fabs(units), 127.0F)), 127L);
+  return static_cast<int8_t>(units < 0.0F ? -magnitude : magnitude);
 }
 
 }  // namespace

@@ -34,6 +34,7 @@ class BlockMesher {
         origin_(out.origin),
         mesh_(out.mesh) {
     first_vertex_.fill(-1);
+    reserve();
     // The block's own cells first, in order, so that its own vertices come first.
     forEachOwnSurfaceCell([this](int x, int y, int z) { addVertices(x, y, z); });
     out.own_vertices = static_cast<uint32_t>(mesh_.vertices.size());
@@ -47,6 +48,23 @@ class BlockMesher {
     for (int x = 0; x < kDim; ++x)
       for (int y = 0; y < kDim; ++y)
         for (unsigned bits = cells_.surface[x][y] & 0xFFu; bits != 0; bits &= bits - 1) fn(x, y, __builtin_ctz(bits));
+  }
+
+  // Room for what a block usually holds (one vertex per own cell and some from the layer above,
+  // two triangles per cell), so that its arrays grow once rather than doubling their way there.
+  void reserve() {
+    std::size_t cells = 0;
+    for (int x = 0; x < kDim; ++x)
+      for (int y = 0; y < kDim; ++y)
+        cells += static_cast<std::size_t>(__builtin_popcount(cells_.surface[x][y] & 0xFFu));
+    const std::size_t vertices = cells + cells / 4 + 8;
+    mesh_.vertices.reserve(vertices);
+    mesh_.normals.reserve(vertices);
+    mesh_.labels.reserve(vertices);
+    mesh_.scores.reserve(vertices);
+    if (with_colors_) mesh_.colors.reserve(vertices);
+    world_.reserve(vertices);
+    mesh_.triangles.reserve(2 * cells + 8);
   }
 
   bool isSurface(int x, int y, int z) const { return cells_.isSurface(x, y, z); }
