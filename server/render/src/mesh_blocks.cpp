@@ -86,8 +86,10 @@ class BlockMesher {
   // One vertex per piece of surface in the cell, numbered consecutively.
   void addVertices(int x, int y, int z) {
     const CellCorners c = corners(x, y, z);
-    const CellTopology& topology = detail::cellTopology(insideMask(c));
-    first_vertex_[static_cast<std::size_t>(cellIndex(x, y, z))] = static_cast<int>(mesh_.vertices.size());
+    const CellTopology& topology = topologies_[insideMask(c)];
+    const auto cell_index = static_cast<std::size_t>(cellIndex(x, y, z));
+    first_vertex_[cell_index] = static_cast<int>(mesh_.vertices.size());
+    pieces_[cell_index] = topology.groups;
     for (int group = 0; group < topology.groups; ++group) {
       const Eigen::Vector3f p =
           topology.groups == 1 ? detail::meanCrossing(c) : detail::meanCrossing(c, &topology, group);
@@ -111,10 +113,13 @@ class BlockMesher {
   // The vertex of cell (x, y, z) whose piece crosses the edge from its corner k along `axis`;
   // cells of the layer above the block get their vertices when a quad first needs them.
   uint32_t edgeVertex(int x, int y, int z, int k, int axis) {
-    int& first = first_vertex_[static_cast<std::size_t>(cellIndex(x, y, z))];
-    if (first < 0) addVertices(x, y, z);
-    const int group = detail::cellTopology(cells_.insideCorners(x, y, z)).group[k][axis];
-    return static_cast<uint32_t>(first + std::max(group, 0));
+    const auto cell_index = static_cast<std::size_t>(cellIndex(x, y, z));
+    if (first_vertex_[cell_index] < 0) addVertices(x, y, z);
+    const auto first = static_cast<uint32_t>(first_vertex_[cell_index]);
+    // A cell with one piece of surface has one vertex for all its crossed edges.
+    if (pieces_[cell_index] == 1) return first;
+    const int group = topologies_[cells_.insideCorners(x, y, z)].group[k][axis];
+    return first + static_cast<uint32_t>(std::max(group, 0));
   }
 
   // The quads of the crossed edges whose lowest surrounding cell is (x, y, z): the edge from voxel
@@ -169,8 +174,10 @@ class BlockMesher {
   float voxel_size_;
   openvdb::Coord origin_;
   LabeledMesh& mesh_;
-  std::vector<Eigen::Vector3f> world_;                        // per vertex
+  std::vector<Eigen::Vector3f> world_;  // per vertex
+  const std::array<CellTopology, 256>& topologies_ = detail::cellTopologies();
   std::array<int, kCells * kCells * kCells> first_vertex_{};  // -1: no vertex yet
+  std::array<uint8_t, kCells * kCells * kCells> pieces_;      // of surface; set with first_vertex_
 };
 
 }  // namespace
