@@ -27,7 +27,7 @@ volume::LabeledVolume planeVolume(float plane, const openvdb::CoordBBox& box) {
 
 BlockCells classifyAt(const volume::LabeledVolume& volume, const openvdb::Coord& origin) {
   BlockVoxels voxels;
-  EXPECT_TRUE(voxels.gather(volume.geometryGrid().getConstAccessor(), origin));
+  EXPECT_TRUE(voxels.gather(volume.geometryGrid().getConstUnsafeAccessor(), origin));
   return classifyBlockCells(voxels);
 }
 

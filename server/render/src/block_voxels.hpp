@@ -15,7 +15,7 @@ inline constexpr int kBlockSpan = kLeafDim + 2;  // voxels per side a block read
 class BlockVoxels {
  public:
   // False when the block's own leaf is not allocated: then none of its cells is observed.
-  bool gather(const volume::GeometryGrid::ConstAccessor& geometry, const openvdb::Coord& origin) {
+  bool gather(const volume::GeometryGrid::ConstUnsafeAccessor& geometry, const openvdb::Coord& origin) {
     for (int a = 0; a < 2; ++a)
       for (int b = 0; b < 2; ++b)
         for (int c = 0; c < 2; ++c) {
@@ -24,7 +24,7 @@ class BlockVoxels {
         }
     return voxels_[0][0][0] != nullptr;
   }
-  void gatherColors(const volume::ColorGrid::ConstAccessor& colors, const openvdb::Coord& origin) {
+  void gatherColors(const volume::ColorGrid::ConstUnsafeAccessor& colors, const openvdb::Coord& origin) {
     for (int a = 0; a < 2; ++a)
       for (int b = 0; b < 2; ++b)
         for (int c = 0; c < 2; ++c) {

@@ -200,9 +200,11 @@ std::vector<BlockMesh> extractBlockMeshes(const volume::LabeledVolume& volume,
   const auto voxel_size = static_cast<float>(volume.voxelSize());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, origins.size(), kBlocksPerTask),
                     [&](const tbb::blocked_range<std::size_t>& range) {
-                      const auto geometry = volume.geometryGrid().getConstAccessor();
-                      std::optional<volume::ColorGrid::ConstAccessor> colors;
-                      if (with_colors) colors.emplace(volume.colorGrid()->getConstAccessor());
+                      // Unregistered accessors: the volume cannot change under the caller's lock,
+                      // and registering one with the tree per task costs a lock of its own.
+                      const auto geometry = volume.geometryGrid().getConstUnsafeAccessor();
+                      std::optional<volume::ColorGrid::ConstUnsafeAccessor> colors;
+                      if (with_colors) colors.emplace(volume.colorGrid()->getConstUnsafeAccessor());
                       BlockVoxels voxels;
                       for (std::size_t i = range.begin(); i < range.end(); ++i) {
                         blocks[i].origin = origins[i];
