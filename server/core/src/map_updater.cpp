@@ -142,7 +142,7 @@ MapUpdater::Round MapUpdater::update() {
     round.locked_ms += msSince(locked);
     std::vector<MeshBlock> encoded;
     encoded.reserve(meshes.size());
-    for (const render::BlockMesh& mesh : meshes) encoded.push_back(encodeMeshBlock(mesh, meshed_at));
+    for (render::BlockMesh& mesh : meshes) encoded.push_back(encodeMeshBlock(std::move(mesh), meshed_at));
     for (MeshBlock& block : store_.apply(std::move(encoded))) changed.push_back(std::move(block));
   }
   round.blocks_meshed = blocks.size();

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace semfuse::server {
 namespace {
@@ -27,29 +28,34 @@ int8_t normalUnits(float component) {
 
 }  // namespace
 
-MeshBlock encodeMeshBlock(const render::BlockMesh& mesh, uint64_t revision) {
-  const render::LabeledMesh& m = mesh.mesh;
+MeshBlock encodeMeshBlock(render::BlockMesh mesh, uint64_t revision) {
+  render::LabeledMesh& m = mesh.mesh;
   MeshBlock block;
   block.origin = {mesh.origin.x(), mesh.origin.y(), mesh.origin.z()};
   block.revision = revision;
   block.own_vertices = mesh.own_vertices;
   const std::size_t n = m.vertices.size();
-  block.positions.reserve(3 * n);
-  block.normals.reserve(3 * n);
+  block.positions.resize(3 * n);
+  block.normals.resize(3 * n);
   for (std::size_t i = 0; i < n; ++i)
-    for (int axis = 0; axis < 3; ++axis) {
-      block.positions.push_back(positionUnits(m.vertices[i][axis]));
-      block.normals.push_back(normalUnits(m.normals[i][axis]));
+    for (std::size_t axis = 0; axis < 3; ++axis) {
+      block.positions[3 * i + axis] = positionUnits(m.vertices[i][axis]);
+      block.normals[3 * i + axis] = normalUnits(m.normals[i][axis]);
     }
-  block.labels = m.labels;
-  block.scores = m.scores;
+  block.labels = std::move(m.labels);
+  block.scores = std::move(m.scores);
   if (!m.colors.empty()) {
-    block.colors.reserve(3 * n);
-    for (const volume::Rgb8& c : m.colors) block.colors.insert(block.colors.end(), {c.r, c.g, c.b});
+    block.colors.resize(3 * n);
+    for (std::size_t i = 0; i < n; ++i) {
+      block.colors[3 * i] = m.colors[i].r;
+      block.colors[3 * i + 1] = m.colors[i].g;
+      block.colors[3 * i + 2] = m.colors[i].b;
+    }
   }
-  block.triangles.reserve(3 * m.triangles.size());
-  for (const auto& t : m.triangles)
-    for (uint32_t index : t) block.triangles.push_back(static_cast<uint16_t>(index));
+  block.triangles.resize(3 * m.triangles.size());
+  for (std::size_t t = 0; t < m.triangles.size(); ++t)
+    for (std::size_t corner = 0; corner < 3; ++corner)
+      block.triangles[3 * t + corner] = static_cast<uint16_t>(m.triangles[t][corner]);
   return block;
 }
 

@@ -9,6 +9,7 @@
 
 namespace semfuse::server {
 
-MeshBlock encodeMeshBlock(const render::BlockMesh& mesh, uint64_t revision);
+// Takes the mesh by value: a caller done with it moves it in, and its labels and scores move on.
+MeshBlock encodeMeshBlock(render::BlockMesh mesh, uint64_t revision);
 
 }  // namespace semfuse::server
