@@ -27,6 +27,7 @@ struct EsdfBenchOptions {
   double voxel = 0.05;
   double truncation = 0.0;  // 0: 4 voxels
   double max_distance = 2.0;
+  double field_voxel = 0.0;  // 0: EsdfParams chooses
   int queries = 10000;
   int repeats = 50;
 };
@@ -57,18 +58,22 @@ int runEsdfBench(const EsdfBenchOptions& options) {
   params.integrate_color = false;
   esdf::EsdfParams esdf_params;
   esdf_params.max_distance = options.max_distance;
+  esdf_params.voxel_size = options.field_voxel;
   if (Status ok = params.validate(); !ok)
     return std::fprintf(stderr, "semfuse-bench esdf: %s\n", ok.error().c_str()), 2;
-  if (Status ok = esdf_params.validate(params.voxel_size); !ok)
+  if (Status ok = esdf_params.validate(params.voxel_size, params.truncation); !ok)
     return std::fprintf(stderr, "semfuse-bench esdf: %s\n", ok.error().c_str()), 2;
   const std::size_t frames = std::min(options.frames, reader.value().count());
+  const double field_voxel = esdf_params.fieldVoxel(params.voxel_size, params.truncation);
+  const int stride = esdf_params.stride(params.voxel_size, params.truncation);
   std::printf(
-      "semfuse-bench esdf: %zu frames of %s, voxel %.3f m, truncation %.3f m, max distance %.2f m, load average "
-      "%.2f at start\n",
-      frames, options.data.c_str(), params.voxel_size, params.truncation, esdf_params.max_distance, loadAverage());
+      "semfuse-bench esdf: %zu frames of %s, voxel %.3f m, truncation %.3f m, field voxel %.3f m, max distance "
+      "%.2f m, load average %.2f at start\n",
+      frames, options.data.c_str(), params.voxel_size, params.truncation, field_voxel, esdf_params.max_distance,
+      loadAverage());
 
   volume::LabeledVolume map(params);
-  esdf::EsdfMap field(params.voxel_size, esdf_params);
+  esdf::EsdfMap field(field_voxel, esdf_params);
   Timings integrate, free_space, copy, apply, update, update_cpu, leaves, added, removed, cleared, relaxed, popped;
   for (std::size_t i = 0; i < frames; ++i) {
     auto frame = reader.value().loadDepthOnly(i);
@@ -87,7 +92,7 @@ int runEsdfBench(const EsdfBenchOptions& options) {
 
     Stopwatch update_watch;
     CpuStopwatch update_cpu_watch;
-    const esdf::MapChanges changes = esdf::copyChanges(map, field.revision());
+    const esdf::MapChanges changes = esdf::copyChanges(map, field.revision(), stride);
     copy.add(update_watch.elapsedMs());
     Stopwatch apply_watch;
     const esdf::UpdateStats stats = field.apply(changes);
@@ -106,17 +111,17 @@ int runEsdfBench(const EsdfBenchOptions& options) {
   Timings rebuild;
   std::size_t rebuilt_voxels = 0;
   for (int r = 0; r < 3; ++r) {
-    esdf::EsdfMap fresh(params.voxel_size, esdf_params);
+    esdf::EsdfMap fresh(field_voxel, esdf_params);
     Stopwatch watch;
-    fresh.apply(esdf::copyChanges(map, 0));
+    fresh.apply(esdf::copyChanges(map, 0, stride));
     rebuild.add(watch.elapsedMs());
     rebuilt_voxels = fresh.knownVoxels();
   }
 
   // Points spread over the field's observed extent (a planner's are near the robot: no easier).
   const openvdb::CoordBBox box = field.grid().evalActiveVoxelBoundingBox();
-  const Eigen::Vector3d lo = Eigen::Vector3d(box.min().x(), box.min().y(), box.min().z()) * params.voxel_size;
-  const Eigen::Vector3d hi = Eigen::Vector3d(box.max().x(), box.max().y(), box.max().z()) * params.voxel_size;
+  const Eigen::Vector3d lo = Eigen::Vector3d(box.min().x(), box.min().y(), box.min().z()) * field_voxel;
+  const Eigen::Vector3d hi = Eigen::Vector3d(box.max().x(), box.max().y(), box.max().z()) * field_voxel;
   std::mt19937 random(3);
   std::vector<Eigen::Vector3d> points;
   for (int i = 0; i < options.queries; ++i) {
@@ -211,6 +216,11 @@ const bool registered = registerBench(
       command.add_option("--voxel", options->voxel, "voxel size, metres")->capture_default_str();
       command.add_option("--trunc", options->truncation, "truncation, metres (0: 4 voxels)")->capture_default_str();
       command.add_option("--max-distance", options->max_distance, "the field's maximum distance, metres")
+          ->capture_default_str();
+      command
+          .add_option("--field-voxel", options->field_voxel,
+                      "the field's voxel size, metres: a whole multiple of --voxel, at most the truncation (0: "
+                      "--voxel)")
           ->capture_default_str();
       command.add_option("--queries", options->queries, "points per query batch")->capture_default_str();
       command.add_option("--repeats", options->repeats, "repetitions of each query")->capture_default_str();

@@ -2,7 +2,8 @@
 // The synthetic room fused at 5 cm from exact depth and ground-truth labels along two orbits (a
 // high one that looks down on the furniture and a low one that sees under the table) and two
 // rings of views out towards the walls, and views down from the corners, with its
-// observed free space, and the distance field kept up to date frame by frame as a server does.
+// observed free space, and the distance field kept up to date frame by frame as a server does;
+// beside it a field of twice the map's voxel (10 cm), which samples the TSDF at every other voxel.
 // Built once per test program (it takes a few seconds).
 #include <cmath>
 #include <memory>
@@ -21,12 +22,15 @@ namespace semfuse::esdf::testing {
 
 inline constexpr double kVoxel = 0.05;
 inline constexpr double kMaxDistance = 1.0;
+inline constexpr int kCoarseStride = 2;
+inline constexpr double kCoarseVoxel = kCoarseStride * kVoxel;
 inline const PinholeIntrinsics kCamera{320, 240, 262.5, 262.5, 159.5, 119.5};
 
 struct FusedRoom {
   synthetic::LabeledScene scene = synthetic::makeRoom();
   std::unique_ptr<volume::LabeledVolume> volume;
   std::unique_ptr<EsdfMap> esdf;
+  std::unique_ptr<EsdfMap> coarse;  // kCoarseVoxel
   std::vector<Pose> poses;
 };
 
@@ -87,6 +91,12 @@ inline EsdfParams roomEsdfParams() {
   return params;
 }
 
+inline EsdfParams coarseEsdfParams() {
+  EsdfParams params = roomEsdfParams();
+  params.voxel_size = kCoarseVoxel;
+  return params;
+}
+
 // Integrates one view (depth + labels + free space) and updates the field from the changes.
 inline void fuseView(FusedRoom& room, const Pose& pose) {
   const auto view = synthetic::renderView(room.scene, kCamera, pose);
@@ -95,6 +105,7 @@ inline void fuseView(FusedRoom& room, const Pose& pose) {
   ASSERT_TRUE(volume::integrate(*room.volume, v.depth, cv::Mat(), v.labels, cv::Mat(), kCamera, pose).ok());
   ASSERT_TRUE(volume::observeFreeSpace(*room.volume, v.depth, kCamera, pose).ok());
   room.esdf->apply(copyChanges(*room.volume, room.esdf->revision()));
+  room.coarse->apply(copyChanges(*room.volume, room.coarse->revision(), kCoarseStride));
 }
 
 inline const FusedRoom& fusedRoom() {
@@ -102,6 +113,7 @@ inline const FusedRoom& fusedRoom() {
     auto r = std::make_unique<FusedRoom>();
     r->volume = std::make_unique<volume::LabeledVolume>(roomVolumeParams());
     r->esdf = std::make_unique<EsdfMap>(kVoxel, roomEsdfParams());
+    r->coarse = std::make_unique<EsdfMap>(kCoarseVoxel, coarseEsdfParams());
     r->poses = roomPoses();
     for (const Pose& pose : r->poses) fuseView(*r, pose);
     return r;

@@ -42,7 +42,7 @@ struct Room {
   Room() {
     esdf::EsdfParams params;
     params.max_distance = 1.0;
-    field = std::make_unique<DistanceField>(mapper, kVoxel, params);
+    field = std::make_unique<DistanceField>(mapper, params);
     mapper.setChangeListener([this] { field->notify(); });
     field->start();
     synthetic::SequenceConfig config;
@@ -182,7 +182,7 @@ TEST(DistanceHandlers, AnUpdateAppliedInSlicesEndsAsOneApply) {
     return 0;
   });
   ASSERT_GT(changed_leaves, 256u) << "the room must need several slices";
-  DistanceField sliced(r.mapper, kVoxel, params);  // its first update takes every leaf, in slices
+  DistanceField sliced(r.mapper, params);  // its first update takes every leaf, in slices
   sliced.start();
   ASSERT_TRUE(sliced.waitUntilCurrent(30s));
   std::vector<Eigen::Vector3d> points;
@@ -201,6 +201,42 @@ TEST(DistanceHandlers, AnUpdateAppliedInSlicesEndsAsOneApply) {
     EXPECT_NEAR(got[i].distance, expected[i].distance, 0.25 * kVoxel) << "point " << i;
   }
   EXPECT_GT(known, points.size() / 10);
+}
+
+// --esdf.voxel-size: a field of twice the map's voxel, fed by the same map, answers in metres at
+// its own resolution (the slice's cells are its voxels).
+TEST(DistanceHandlers, AFieldCoarserThanTheMapAnswersAtItsOwnVoxels) {
+  constexpr double kCoarse = 2 * kVoxel;
+  esdf::EsdfParams params;
+  params.max_distance = 1.0;
+  params.voxel_size = kCoarse;
+  DistanceField coarse(room().mapper, params);
+  coarse.start();
+  ASSERT_TRUE(coarse.waitUntilCurrent(30s));
+  coarse.read([](const esdf::EsdfMap& field) { EXPECT_DOUBLE_EQ(field.voxelSize(), kCoarse); });
+  auto distance = handleDistance({{{0.0, 0.3, 1.0}}}, context(&coarse));
+  ASSERT_TRUE(distance.ok()) << distance.message;
+  EXPECT_TRUE(distance.value[0].known);
+  EXPECT_NEAR(distance.value[0].distance, 0.25, 1.5 * kCoarse);
+  OccupancySliceRequest request;
+  request.z_min = 0.15;
+  request.z_max = 0.6;
+  request.use_bounds = true;
+  request.min = {-2.5, -2.0};
+  request.max = {2.5, 2.0};
+  auto slice = handleOccupancySlice(request, context(&coarse));
+  ASSERT_TRUE(slice.ok()) << slice.message;
+  EXPECT_EQ(slice.value.width, 51u);
+  EXPECT_EQ(slice.value.height, 41u);
+  EXPECT_NEAR(slice.value.resolution, kCoarse, 1e-9);
+  const auto cell = [&](double x, double y) {
+    const OccupancyGrid& g = slice.value;
+    return g.cells[static_cast<std::size_t>(std::floor((y - g.origin.y()) / kCoarse)) * g.width +
+                   static_cast<std::size_t>(std::floor((x - g.origin.x()) / kCoarse))];
+  };
+  EXPECT_EQ(cell(-2.5, 0.0), kOccupancyOccupied);  // the -x wall
+  EXPECT_EQ(cell(-1.6, -0.6), kOccupancyFree);
+  coarse.stop();
 }
 
 TEST(DistanceHandlers, TheFieldFollowsAResetAndALoad) {

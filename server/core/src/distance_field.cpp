@@ -15,8 +15,19 @@ constexpr std::size_t kCachedLabelSets = 8;
 constexpr std::size_t kLeavesPerHold = 256;
 }  // namespace
 
-DistanceField::DistanceField(const Mapper& mapper, double voxel_size, esdf::EsdfParams params)
-    : mapper_(mapper), field_(voxel_size, params) {}
+namespace {
+volume::VolumeParams mapParams(const Mapper& mapper) {
+  return mapper.read([](const volume::LabeledVolume& map) { return map.params(); });
+}
+}  // namespace
+
+DistanceField::DistanceField(const Mapper& mapper, esdf::EsdfParams params)
+    : DistanceField(mapper, params, mapParams(mapper)) {}
+
+DistanceField::DistanceField(const Mapper& mapper, esdf::EsdfParams params, const volume::VolumeParams& map)
+    : mapper_(mapper),
+      field_(params.fieldVoxel(map.voxel_size, map.truncation), params),
+      stride_(params.stride(map.voxel_size, map.truncation)) {}
 
 DistanceField::~DistanceField() { stop(); }
 
@@ -63,8 +74,8 @@ void DistanceField::updateOnce() {
   const uint64_t since = revision_.load();
   // The copy is the only part that holds the map's lock.
   esdf::MapChanges changes = mapper_.read([&](const volume::LabeledVolume& map) {
-    if (map.revision() == since) return esdf::MapChanges{since, false, map.voxelSize(), {}};
-    return esdf::copyChanges(map, since);
+    if (map.revision() == since) return esdf::MapChanges{since, false, field_.voxelSize(), {}};
+    return esdf::copyChanges(map, since, stride_);
   });
   if (changes.revision == since && !changes.all) return;
   // The field's lock is taken per slice of the changed leaves, not for the whole update: at 1 cm a

@@ -28,7 +28,8 @@ namespace semfuse::server {
 
 class DistanceField final : public DistanceSource {
  public:
-  DistanceField(const Mapper& mapper, double voxel_size, esdf::EsdfParams params);
+  // The field's voxel is params.fieldVoxel() of the mapper's voxel size and truncation.
+  DistanceField(const Mapper& mapper, esdf::EsdfParams params);
   ~DistanceField();
   DistanceField(const DistanceField&) = delete;
   DistanceField& operator=(const DistanceField&) = delete;
@@ -67,12 +68,15 @@ class DistanceField final : public DistanceSource {
   Stats stats() const;
 
  private:
+  DistanceField(const Mapper& mapper, esdf::EsdfParams params, const volume::VolumeParams& map);
+
   void run();
   void updateOnce();
 
   const Mapper& mapper_;
   mutable std::shared_mutex mutex_;  // guards field_
   esdf::EsdfMap field_;
+  const int stride_;  // map voxels per field voxel
 
   mutable std::mutex wake_mutex_;
   mutable std::condition_variable wake_;

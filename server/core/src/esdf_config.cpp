@@ -15,6 +15,12 @@ void addEsdfOptions(CLI::App& app, EsdfConfig& c) {
       ->group(group)
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
+  app.add_option("--esdf.voxel-size", c.field.voxel_size,
+                 "the field's voxel edge, metres: a whole multiple of --voxel-size, at most --truncation (0 = the "
+                 "coarsest such up to 5 cm); a coarser field costs far less to keep up")
+      ->group(group)
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_option("--esdf.min-site-weight", c.field.min_site_weight,
                  "integration weight a surface voxel needs to seed the field")
       ->group(group)
@@ -44,9 +50,9 @@ void addEsdfOptions(CLI::App& app, EsdfConfig& c) {
       ->capture_default_str();
 }
 
-Status validateEsdfConfig(const EsdfConfig& c, double voxel_size) {
+Status validateEsdfConfig(const EsdfConfig& c, double voxel_size, double truncation) {
   if (!c.enabled) return Status::Ok();
-  if (Status ok = c.field.validate(voxel_size); !ok)
+  if (Status ok = c.field.validate(voxel_size, truncation); !ok)
     return makeError(ErrorCode::kInvalidArgument, "--esdf: " + ok.error());
   if (!(c.occupancy_max_z >= c.occupancy_min_z))
     return makeError(ErrorCode::kInvalidArgument, "--occupancy.max-z " + std::to_string(c.occupancy_max_z) +

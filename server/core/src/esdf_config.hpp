@@ -35,7 +35,7 @@ struct EsdfConfig {
 void addEsdfOptions(CLI::App& app, EsdfConfig& config);
 
 // The checks the options cannot express alone (max_z >= min_z, the field's parameters against the
-// voxel size); errors name the flag.
-Status validateEsdfConfig(const EsdfConfig& config, double voxel_size);
+// map's voxel size and truncation); errors name the flag.
+Status validateEsdfConfig(const EsdfConfig& config, double voxel_size, double truncation);
 
 }  // namespace semfuse::server

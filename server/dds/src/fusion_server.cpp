@@ -75,9 +75,9 @@ FusionServer::FusionServer(ServerConfig config)
   }
 
   if (config_.esdf.enabled) {
-    if (Status ok = validateEsdfConfig(config_.esdf, config_.volume.voxel_size); !ok)
+    if (Status ok = validateEsdfConfig(config_.esdf, config_.volume.voxel_size, config_.volume.truncation); !ok)
       throw std::runtime_error(ok.error());
-    distance_field_ = std::make_unique<DistanceField>(*mapper_, config_.volume.voxel_size, config_.esdf.field);
+    distance_field_ = std::make_unique<DistanceField>(*mapper_, config_.esdf.field);
     mapper_->setChangeListener([field = distance_field_.get()] { field->notify(); });
     occupancy_publisher_ = std::make_unique<OccupancyPublisher>(participant_, *distance_field_, config_.esdf);
   }

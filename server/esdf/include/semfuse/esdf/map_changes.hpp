@@ -32,14 +32,16 @@ struct ChangedLeaf {
 };
 
 struct MapChanges {
-  uint64_t revision = 0;  // the map's revision the changes bring the distance field up to
-  bool all = false;       // the map was cleared or replaced: rebuild from these leaves alone
-  double voxel_size = 0.0;
-  std::vector<ChangedLeaf> leaves;
+  uint64_t revision = 0;            // the map's revision the changes bring the distance field up to
+  bool all = false;                 // the map was cleared or replaced: rebuild from these leaves alone
+  double voxel_size = 0.0;          // the field's voxel: the map's times the stride
+  std::vector<ChangedLeaf> leaves;  // in the field's voxels
 };
 
 // The leaves changed since `revision` (LabeledVolume::changesSince), copied. Run it under the
-// map's read lock; parallel over leaves.
-MapChanges copyChanges(const volume::LabeledVolume& map, uint64_t revision);
+// map's read lock; parallel over leaves. With a stride above 1 (EsdfParams::stride) the leaves
+// are the field's: field voxel (i, j, k) is the map's voxel (stride i, stride j, stride k), and a
+// field leaf is copied when one of its voxels or of its halo lies in a changed map leaf.
+MapChanges copyChanges(const volume::LabeledVolume& map, uint64_t revision, int stride = 1);
 
 }  // namespace semfuse::esdf
