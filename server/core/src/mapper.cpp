@@ -1,5 +1,7 @@
 #include "mapper.hpp"
 
+#include <algorithm>
+
 #include <chrono>
 #include <cmath>
 #include <utility>
@@ -151,13 +153,27 @@ void Mapper::reset() {
 }
 
 std::shared_ptr<const volume::LabeledVolume> Mapper::snapshot() const {
+  constexpr std::size_t kCopies = 2;
   std::lock_guard snapshot_lock(snapshot_mutex_);
   std::shared_lock lock(mutex_);
-  if (!snapshot_ || snapshot_revision_ != revision_) {
-    snapshot_ = std::make_shared<const volume::LabeledVolume>(volume_.deepCopy());
-    snapshot_revision_ = revision_;
+  if (!copies_.empty() && snapshot_revision_ == revision_) return copies_.back();
+  // Only this list holds an idle copy, and only snapshot() hands copies out: no query can be
+  // reading it while it changes.
+  const auto idle =
+      std::find_if(copies_.begin(), copies_.end(), [](const auto& copy) { return copy.use_count() == 1; });
+  std::shared_ptr<volume::LabeledVolume> copy;
+  if (idle != copies_.end()) {
+    copy = std::move(*idle);
+    copies_.erase(idle);
+    copy->catchUpWith(volume_);
+  } else {
+    copy = std::make_shared<volume::LabeledVolume>(volume_.deepCopy());
   }
-  return snapshot_;
+  copies_.push_back(copy);
+  // The oldest copy is still being read: its queries keep it alive until they end.
+  if (copies_.size() > kCopies) copies_.erase(copies_.begin());
+  snapshot_revision_ = revision_;
+  return copy;
 }
 
 Mapper::Size Mapper::size() const {

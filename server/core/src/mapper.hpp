@@ -69,10 +69,11 @@ class Mapper {
     return fn(volume_);
   }
 
-  // A read-only copy of the map as of the latest write, for long queries (raycast, mesh,
-  // objects): they run on it without any lock, so they never hold off the fusion thread for
-  // longer than one copy (tens of ms) however long they take. Copies are shared between queries
-  // and made again only after the map changed.
+  // A read-only copy of the map as of the latest write, for long queries (mesh, objects, region):
+  // they run on it without any lock, so they never hold off the fusion thread for longer than the
+  // copy however long they take. Copies are shared between queries; after the map changed, one
+  // that no query holds any more catches up with the changed leaves (milliseconds after a frame),
+  // and only when every copy is still being read is the map copied whole.
   std::shared_ptr<const volume::LabeledVolume> snapshot() const;
 
   const LabelLegend& legend() const { return options_.legend; }
@@ -111,8 +112,11 @@ class Mapper {
   uint64_t revision_ = 0;  // guarded by mutex_
   std::function<void()> on_change_;
 
-  mutable std::mutex snapshot_mutex_;  // one copy at a time; guards the two below
-  mutable std::shared_ptr<const volume::LabeledVolume> snapshot_;
+  mutable std::mutex snapshot_mutex_;  // one snapshot at a time; guards the two below
+  // The copies of the map handed to queries, the newest last. A copy no query holds any more is
+  // brought up to date from the leaves changed since (LabeledVolume::catchUpWith) instead of being
+  // copied whole; a second copy exists only while a query still reads the first.
+  mutable std::vector<std::shared_ptr<volume::LabeledVolume>> copies_;
   mutable uint64_t snapshot_revision_ = ~0ull;
 };
 

@@ -62,7 +62,8 @@ void ObjectTracker::recordView(const Frame& frame, const Pose& camera_to_world, 
 
 std::shared_ptr<const ObjectSet> ObjectTracker::objectsOf(const std::shared_ptr<const volume::LabeledVolume>& map) {
   std::lock_guard lock(mutex_);
-  const bool same_map = last_ && !last_map_.owner_before(map) && !map.owner_before(last_map_);
+  const bool same_map =
+      last_ && !last_map_.owner_before(map) && !map.owner_before(last_map_) && last_revision_ == map->revision();
   if (same_map) return last_;
 
   const SurfaceVoxels surface = surface_cache_.update(*map);
@@ -98,6 +99,7 @@ std::shared_ptr<const ObjectSet> ObjectTracker::objectsOf(const std::shared_ptr<
   set->update = updates_;
   last_ = set;
   last_map_ = map;
+  last_revision_ = map->revision();
   return set;
 }
 

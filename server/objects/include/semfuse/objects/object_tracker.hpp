@@ -57,8 +57,9 @@ class ObjectTracker {
 
   ObjectTracker(ObjectParams params, LabelLegend legend, double voxel_size);
 
-  // The objects of `map`; regroups only when `map` is not the snapshot of the last call. Every
-  // call hands a snapshot of one map, as new as the last or newer (surface_cache.hpp).
+  // The objects of `map`; regroups only when `map` is not the snapshot of the last call at the
+  // same revision. Every call hands a snapshot of one map, as new as the last or newer
+  // (surface_cache.hpp).
   std::shared_ptr<const ObjectSet> objectsOf(const std::shared_ptr<const volume::LabeledVolume>& map);
 
   // Called with the events of every update that has any, under the update's lock (so in order).
@@ -83,7 +84,10 @@ class ObjectTracker {
   mutable std::mutex mutex_;  // one update at a time; guards the members below
   SurfaceCache surface_cache_;
   ObjectRegistry registry_;
+  // The map the last set was grouped from, and its revision: the server brings an idle copy of
+  // the map up to date in place, so the same copy can come back with other content.
   std::weak_ptr<const volume::LabeledVolume> last_map_;
+  uint64_t last_revision_ = 0;
   std::shared_ptr<const ObjectSet> last_;
   uint64_t updates_ = 0;
   std::function<void(const ObjectEvents&)> listener_;

@@ -39,6 +39,10 @@ class LabeledVolume {
   LabeledVolume(const LabeledVolume&) = delete;  // grids are large: copy explicitly with deepCopy()
   LabeledVolume& operator=(const LabeledVolume&) = delete;
   LabeledVolume deepCopy() const;
+  // Makes this volume, an earlier copy of `source` (deepCopy), equal to `source` again by copying
+  // only the leaves `source` changed since this copy's revision; a clear or a replacement since
+  // means a whole copy. Cost in proportion to the change, not to the map (volume_catch_up.cpp).
+  void catchUpWith(const LabeledVolume& source);
 
   const VolumeParams& params() const { return params_; }
   double voxelSize() const { return params_.voxel_size; }
