@@ -87,7 +87,7 @@ int runEsdfBench(const EsdfBenchOptions& options) {
     if (!volume::integrate(map, f.depth, cv::Mat(), labels, cv::Mat(), f.intrinsics, *f.camera_to_world)) return 1;
     integrate.add(integrate_watch.elapsedMs());
     Stopwatch free_watch;
-    if (!volume::observeFreeSpace(map, f.depth, f.intrinsics, *f.camera_to_world)) return 1;
+    if (!volume::observeFreeSpace(map, f.depth, f.intrinsics, *f.camera_to_world, stride)) return 1;
     free_space.add(free_watch.elapsedMs());
 
     Stopwatch update_watch;

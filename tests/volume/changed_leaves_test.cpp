@@ -172,6 +172,38 @@ TEST(FreeSpace, InvalidDepthSeesNothingAndBadInputIsRefused) {
   sheared.linear()(0, 1) = 0.5;
   EXPECT_FALSE(observeFreeSpace(volume, wall(1.0f), kCamera, sheared).ok());
   EXPECT_EQ(volume.revision(), 0u);
+  EXPECT_FALSE(observeFreeSpace(volume, wall(1.0f), kCamera, cameraAt(0.0), 0).ok());
+}
+
+// With a sample stride, a voxel whose coordinates are all multiples of it is free exactly when it
+// is free without one; any other voxel is free only inside a wholly free leaf (a tile).
+TEST(FreeSpace, ASampleStrideMarksTheSameVoxelsAtItsSamplesAndNoOthers) {
+  constexpr int kStride = 3;  // not a divisor of 8: samples fall at every offset in some leaf
+  LabeledVolume full(wallParams()), sampled(wallParams());
+  for (double x : {0.0, 0.3}) {
+    ASSERT_TRUE(observeFreeSpace(full, wall(1.5f), kCamera, cameraAt(x)).ok());
+    ASSERT_TRUE(observeFreeSpace(sampled, wall(1.5f), kCamera, cameraAt(x), kStride).ok());
+  }
+  const openvdb::CoordBBox box = full.freeSpaceGrid()->evalActiveVoxelBoundingBox();
+  ASSERT_GT(box.volume(), 100000u);
+  const auto sample = [](int c) { return ((c % kStride) + kStride) % kStride == 0; };
+  std::size_t samples = 0, samples_differ = 0, others_free = 0, others_outside_tiles = 0;
+  const auto& tree = sampled.freeSpaceGrid()->tree();
+  for (auto it = box.begin(); it; ++it) {
+    const openvdb::Coord c = *it;
+    const bool free = sampled.observedFree(c);
+    if (sample(c.x()) && sample(c.y()) && sample(c.z())) {
+      ++samples;
+      samples_differ += free != full.observedFree(c);
+    } else if (free) {
+      ++others_free;
+      others_outside_tiles += tree.probeConstLeaf(c) != nullptr;
+    }
+  }
+  EXPECT_GT(samples, 3000u);
+  EXPECT_EQ(samples_differ, 0u);
+  EXPECT_GT(others_free, 0u);  // the wholly free leaves near the camera
+  EXPECT_EQ(others_outside_tiles, 0u);
 }
 
 }  // namespace

@@ -87,7 +87,8 @@ Result<FrameOutcome> Mapper::integrateFrame(const Frame& frame, const Segmentati
     if (stats.ok()) ++revision_;
     // The frame passed the same checks in integrate(): this cannot fail on its input.
     if (stats.ok() && options_.observe_free_space)
-      static_cast<void>(volume::observeFreeSpace(volume_, posed.depth, posed.intrinsics, *posed.camera_to_world));
+      static_cast<void>(volume::observeFreeSpace(volume_, posed.depth, posed.intrinsics, *posed.camera_to_world,
+                                                 options_.free_space_stride));
   }
   outcome.integrate_ms = millisecondsSince(start);
   if (!stats.ok()) return stats.errorInfo();

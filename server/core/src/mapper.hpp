@@ -50,6 +50,9 @@ struct MapperOptions {
   // Also mark the free space each integrated frame saw (volume/free_space.hpp), for the distance
   // field: it costs a pass over the frame's view under the map's lock.
   bool observe_free_space = false;
+  // Within partly seen leaves, only every n-th voxel along each axis: the distance field's stride
+  // (esdf::EsdfParams::stride), which reads no other.
+  int free_space_stride = 1;
 };
 
 class Mapper {

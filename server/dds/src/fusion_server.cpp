@@ -1,5 +1,6 @@
 #include "fusion_server.hpp"
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <stdexcept>
@@ -43,6 +44,8 @@ MapperOptions mapperOptions(const ServerConfig& config, const LabelLegend& legen
   options.refine_given_poses = config.refine_given_poses;
   options.tracker.color_weight = config.track_color_weight;
   options.observe_free_space = config.esdf.enabled;
+  options.free_space_stride =
+      std::max(1, config.esdf.field.stride(options.volume.voxel_size, options.volume.truncation));
   return options;
 }
 

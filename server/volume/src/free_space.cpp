@@ -95,18 +95,26 @@ bool leafObservedFree(const openvdb::Coord& origin, const FrameView& frame, cons
   return nearest > 0.0f && z_max < nearest - truncation;
 }
 
+// The first local coordinate in [0, 8) whose global coordinate origin + local is a multiple of
+// `stride` (stride 1: 0).
+int firstSample(int origin, int stride) {
+  const int remainder = ((origin % stride) + stride) % stride;
+  return remainder == 0 ? 0 : stride - remainder;
+}
+
 // The voxels of a leaf that the frame sees as empty, one by one: each voxel centre projects to a
-// pixel with valid depth d and lies nearer than d - truncation (as the integrator projects).
-// Bit n is the voxel at leaf offset n.
+// pixel with valid depth d and lies nearer than d - truncation (as the integrator projects). Only
+// voxels whose coordinates are multiples of `stride` are tested. Bit n is the voxel at leaf
+// offset n.
 using LeafBits = std::array<uint64_t, LabeledVolume::kLeafVoxels / 64>;
-bool voxelsObservedFree(const openvdb::Coord& origin, const FrameView& frame, float voxel, float truncation,
+bool voxelsObservedFree(const openvdb::Coord& origin, const FrameView& frame, float voxel, float truncation, int stride,
                         LeafBits& bits) {
   bool any = false;
   bits.fill(0);
   constexpr int kDim = LabeledVolume::kLeafDim;
-  for (int x = 0; x < kDim; ++x)
-    for (int y = 0; y < kDim; ++y)
-      for (int z = 0; z < kDim; ++z) {
+  for (int x = firstSample(origin.x(), stride); x < kDim; x += stride)
+    for (int y = firstSample(origin.y(), stride); y < kDim; y += stride)
+      for (int z = firstSample(origin.z(), stride); z < kDim; z += stride) {
         const Eigen::Vector3f world((origin.x() + x) * voxel, (origin.y() + y) * voxel, (origin.z() + z) * voxel);
         const Eigen::Vector3f c = frame.world_to_camera_rotation * world + frame.world_to_camera_translation;
         if (!(c.z() > frame.min_depth)) continue;
@@ -127,7 +135,9 @@ enum class LeafVerdict : uint8_t { kNone, kWhole, kSome };
 }  // namespace
 
 Result<FreeSpaceStats> observeFreeSpace(LabeledVolume& volume, const cv::Mat& depth,
-                                        const PinholeIntrinsics& intrinsics, const Pose& camera_to_world) {
+                                        const PinholeIntrinsics& intrinsics, const Pose& camera_to_world,
+                                        int sample_stride) {
+  if (sample_stride < 1) return makeError("free space sample stride must be at least 1");
   const VolumeParams& params = volume.params();
   auto view = detail::makeFrameView(params, depth, cv::Mat(), cv::Mat(), cv::Mat(), intrinsics, camera_to_world);
   if (!view) return makeError(view.error());
@@ -156,7 +166,7 @@ Result<FreeSpaceStats> observeFreeSpace(LabeledVolume& volume, const cv::Mat& de
                       for (std::size_t i = range.begin(); i != range.end(); ++i) {
                         if (leafObservedFree(candidates[i], frame, depths, voxel, truncation))
                           verdicts[i] = LeafVerdict::kWhole;
-                        else if (voxelsObservedFree(candidates[i], frame, voxel, truncation, bits[i]))
+                        else if (voxelsObservedFree(candidates[i], frame, voxel, truncation, sample_stride, bits[i]))
                           verdicts[i] = LeafVerdict::kSome;
                       }
                     });
