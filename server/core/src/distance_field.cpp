@@ -7,6 +7,7 @@
 
 #include "semfuse/core/thread_name.hpp"
 #include "tbb_worker_names.hpp"
+#include "thread_priority.hpp"
 
 namespace semfuse::server {
 namespace {
@@ -36,6 +37,7 @@ void DistanceField::start() {
   notify();  // a resumed map is there before any frame
   thread_ = std::thread([this] {
     setCurrentThreadName("sf-esdf");
+    lowerToQueryPriority();
     nameTbbWorkers();
     run();
   });

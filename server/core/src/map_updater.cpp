@@ -10,6 +10,7 @@
 #include "semfuse/core/thread_name.hpp"
 #include "semfuse/render/mesh_blocks.hpp"
 #include "tbb_worker_names.hpp"
+#include "thread_priority.hpp"
 
 namespace semfuse::server {
 namespace {
@@ -54,6 +55,7 @@ void MapUpdater::start() {
   }
   thread_ = std::thread([this] {
     setCurrentThreadName("sf-map-updates");
+    lowerToQueryPriority();
     nameTbbWorkers();
     run();
   });

@@ -15,6 +15,7 @@
 #include "semfuse/wire/message_codecs.hpp"
 #include "semfuse/wire/ros_codec.hpp"
 #include "semfuse/wire/status_codec.hpp"
+#include "thread_priority.hpp"
 
 namespace semfuse::server {
 namespace {
@@ -66,6 +67,9 @@ FusionServer::FusionServer(ServerConfig config)
       pose_writer_(pose_topic_, dds::qos::poses()),
       status_writer_(status_topic_, dds::qos::status()),
       legend_writer_(legend_topic_, dds::qos::legend()) {
+  // TBB's workers run the fusion's parallel work: they start here, at the main thread's priority,
+  // before the query threads that run below it exist (thread_priority.hpp).
+  startTbbWorkers();
   mapper_ = std::make_unique<Mapper>(mapperOptions(config_, legend_));
 
   if (!config_.map_file.empty() && std::filesystem::exists(config_.map_file)) {

@@ -10,6 +10,7 @@
 #include "semfuse/wire/distance_codecs.hpp"
 #include "semfuse/wire/ros_codec.hpp"
 #include "tbb_worker_names.hpp"
+#include "thread_priority.hpp"
 
 namespace semfuse::server {
 
@@ -30,6 +31,7 @@ void OccupancyPublisher::start() {
   }
   thread_ = std::thread([this] {
     setCurrentThreadName("sf-occupancy");
+    lowerToQueryPriority();
     nameTbbWorkers();
     run();
   });

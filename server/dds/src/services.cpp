@@ -9,6 +9,7 @@
 #include "semfuse/dds/qos.hpp"
 #include "semfuse/wire/message_codecs.hpp"
 #include "tbb_worker_names.hpp"
+#include "thread_priority.hpp"
 
 namespace semfuse::server {
 
@@ -21,6 +22,7 @@ Services::Server<Codec> Services::serve(const dds::Participant& participant, con
                                                                        WireReply& wire_reply) {
     // The TBB workers that help this service's thread are named first (tbb_worker_names.hpp).
     nameTbbWorkers();
+    lowerToQueryPriority();  // frames first (thread_priority.hpp)
     auto request = Codec::decodeRequest(wire_request);
     ServiceReply<typename Codec::Reply> reply =
         request ? handle(request.value())
