@@ -1,7 +1,6 @@
 #include "mapper.hpp"
 
 #include <algorithm>
-
 #include <chrono>
 #include <cmath>
 #include <utility>

@@ -34,6 +34,7 @@ void copyHalo(const volume::GeometryGrid::TreeType& tree, ChangedLeaf& out) {
         }
     }
 }
+
 openvdb::Coord scaled(const openvdb::Coord& c, int factor) { return {c.x() * factor, c.y() * factor, c.z() * factor}; }
 
 int floorDiv(int a, int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
@@ -59,9 +60,6 @@ std::vector<openvdb::Coord> fieldLeavesReading(const std::vector<openvdb::Coord>
   return leaves;
 }
 
-// One field leaf read from the map at every stride-th voxel, its halo included. The field leaf's
-// own samples are read map leaf by map leaf (a field leaf lies over stride^3 whole map leaves, its
-// origin being a multiple of 8 field voxels), each looked up once; the halo's through an accessor.
 // The map's grids through accessors of one task: neighbouring map leaves share their internal
 // nodes, so most look-ups stop at a cached node.
 struct MapReaders {
@@ -73,6 +71,9 @@ struct MapReaders {
   openvdb::tree::ValueAccessor<const volume::FreeSpaceGrid::TreeType> free_space;
 };
 
+// One field leaf read from the map at every stride-th voxel, its halo included. The field leaf's
+// own samples are read map leaf by map leaf (a field leaf lies over stride^3 whole map leaves, its
+// origin being a multiple of 8 field voxels), each looked up once; the halo's through an accessor.
 void sampleLeaf(MapReaders& map, int stride, ChangedLeaf& out) {
   const openvdb::Coord base = scaled(out.origin, stride);  // map voxel under field voxel (0, 0, 0)
   // The field coordinates along an axis whose samples lie in the map leaf at `first` map voxels
