@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "field_checks.hpp"
 #include "fused_room.hpp"
 #include "semfuse/esdf/distance_queries.hpp"
 #include "semfuse/esdf/semantic_distance.hpp"
@@ -47,15 +48,6 @@ bool nearestIsSubVoxel(const synthetic::LabeledScene& scene, const Eigen::Vector
   return cylinder && 2 * cylinder->radius < 2 * kVoxel;
 }
 
-struct Errors {
-  std::vector<double> values;
-  double percentile(double p) {
-    if (values.empty()) return 0;
-    std::sort(values.begin(), values.end());
-    return values[std::min(values.size() - 1, static_cast<std::size_t>(p / 100.0 * values.size()))];
-  }
-};
-
 TEST(EsdfAccuracy, WithinAVoxelOfTheAnalyticDistanceWhereTheNearestSurfaceWasSeen) {
   const FusedRoom& room = fusedRoom();
   const EsdfMap& esdf = *room.esdf;
@@ -86,28 +78,6 @@ TEST(EsdfAccuracy, WithinAVoxelOfTheAnalyticDistanceWhereTheNearestSurfaceWasSee
   // at 5 cm): at most 0.5 %, at most 2.5 voxels.
   EXPECT_LE(over_a_voxel, evaluated / 200);
   EXPECT_LE(worst, 2.5);
-}
-
-// Every zero crossing of the TSDF (between 6-neighbours observed on both sides), linearly
-// interpolated: the surface the field is built from.
-std::vector<SurfacePoint> tsdfCrossings(const volume::LabeledVolume& volume) {
-  std::vector<SurfacePoint> points;
-  openvdb::tree::ValueAccessor<const volume::GeometryGrid::TreeType> values(volume.geometryGrid().tree());
-  for (auto it = volume.geometryGrid().tree().cbeginValueOn(); it; ++it) {
-    const float a = volume::unpackTsdf(*it);
-    for (int axis = 0; axis < 3; ++axis) {
-      openvdb::Coord next = it.getCoord();
-      next[axis] += 1;
-      volume::PackedVoxel packed;
-      if (!values.probeValue(next, packed)) continue;
-      const float b = volume::unpackTsdf(packed);
-      if ((a < 0) == (b < 0)) continue;
-      Eigen::Vector3f p = centreOf(it.getCoord()).cast<float>();
-      p[axis] += static_cast<float>(kVoxel) * std::abs(a) / (std::abs(a) + std::abs(b));
-      points.push_back({p, kUnlabeled});
-    }
-  }
-  return points;
 }
 
 // The wavefront against the exact Euclidean distance to the same surface: what the propagation

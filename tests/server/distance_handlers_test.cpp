@@ -73,6 +73,24 @@ DistanceQueryContext context(const DistanceField* field = &*room().field) {
   return c;
 }
 
+// The band 0.15-0.6 m over the room's floor plan, the walls included.
+OccupancySliceRequest roomBand() {
+  OccupancySliceRequest request;
+  request.z_min = 0.15;
+  request.z_max = 0.6;
+  request.use_bounds = true;
+  request.min = {-2.5, -2.0};
+  request.max = {2.5, 2.0};
+  return request;
+}
+
+// The cell of a grid under world (x, y).
+int8_t cellAt(const OccupancyGrid& grid, double x, double y) {
+  const auto column = static_cast<std::size_t>(std::floor((x - grid.origin.x()) / grid.resolution));
+  const auto row = static_cast<std::size_t>(std::floor((y - grid.origin.y()) / grid.resolution));
+  return grid.cells[row * grid.width + column];
+}
+
 TEST(DistanceHandlers, DistanceAndGradientAboveTheTable) {
   auto reply = handleDistance({{{0.0, 0.3, 1.0}, {0.0, 0.0, 9.0}}}, context());
   ASSERT_TRUE(reply.ok()) << reply.message;
@@ -84,12 +102,7 @@ TEST(DistanceHandlers, DistanceAndGradientAboveTheTable) {
 }
 
 TEST(DistanceHandlers, OccupancySliceOfTheRoom) {
-  OccupancySliceRequest request;
-  request.z_min = 0.15;
-  request.z_max = 0.6;
-  request.use_bounds = true;
-  request.min = {-2.5, -2.0};
-  request.max = {2.5, 2.0};
+  OccupancySliceRequest request = roomBand();
   request.inflation_radius = 0.1;
   auto reply = handleOccupancySlice(request, context());
   ASSERT_TRUE(reply.ok()) << reply.message;
@@ -98,13 +111,9 @@ TEST(DistanceHandlers, OccupancySliceOfTheRoom) {
   EXPECT_EQ(grid.height, 81u);
   EXPECT_EQ(grid.frame_id, "map");
   EXPECT_DOUBLE_EQ(grid.z, 0.375);
-  auto cell = [&](double x, double y) {
-    return grid.cells[static_cast<std::size_t>(std::floor((y - grid.origin.y()) / kVoxel)) * grid.width +
-                      static_cast<std::size_t>(std::floor((x - grid.origin.x()) / kVoxel))];
-  };
-  EXPECT_EQ(cell(-2.5, 0.0), kOccupancyOccupied);   // the -x wall
-  EXPECT_EQ(cell(1.4, -1.45), kOccupancyOccupied);  // a box
-  EXPECT_EQ(cell(-1.6, -0.6), kOccupancyFree);
+  EXPECT_EQ(cellAt(grid, -2.5, 0.0), kOccupancyOccupied);   // the -x wall
+  EXPECT_EQ(cellAt(grid, 1.4, -1.45), kOccupancyOccupied);  // a box
+  EXPECT_EQ(cellAt(grid, -1.6, -0.6), kOccupancyFree);
 }
 
 TEST(DistanceHandlers, SemanticDistanceToTheTableByLabel) {
@@ -218,24 +227,13 @@ TEST(DistanceHandlers, AFieldCoarserThanTheMapAnswersAtItsOwnVoxels) {
   ASSERT_TRUE(distance.ok()) << distance.message;
   EXPECT_TRUE(distance.value[0].known);
   EXPECT_NEAR(distance.value[0].distance, 0.25, 1.5 * kCoarse);
-  OccupancySliceRequest request;
-  request.z_min = 0.15;
-  request.z_max = 0.6;
-  request.use_bounds = true;
-  request.min = {-2.5, -2.0};
-  request.max = {2.5, 2.0};
-  auto slice = handleOccupancySlice(request, context(&coarse));
+  auto slice = handleOccupancySlice(roomBand(), context(&coarse));
   ASSERT_TRUE(slice.ok()) << slice.message;
   EXPECT_EQ(slice.value.width, 51u);
   EXPECT_EQ(slice.value.height, 41u);
   EXPECT_NEAR(slice.value.resolution, kCoarse, 1e-9);
-  const auto cell = [&](double x, double y) {
-    const OccupancyGrid& g = slice.value;
-    return g.cells[static_cast<std::size_t>(std::floor((y - g.origin.y()) / kCoarse)) * g.width +
-                   static_cast<std::size_t>(std::floor((x - g.origin.x()) / kCoarse))];
-  };
-  EXPECT_EQ(cell(-2.5, 0.0), kOccupancyOccupied);  // the -x wall
-  EXPECT_EQ(cell(-1.6, -0.6), kOccupancyFree);
+  EXPECT_EQ(cellAt(slice.value, -2.5, 0.0), kOccupancyOccupied);  // the -x wall
+  EXPECT_EQ(cellAt(slice.value, -1.6, -0.6), kOccupancyFree);
   coarse.stop();
 }
 

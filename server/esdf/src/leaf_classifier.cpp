@@ -19,18 +19,7 @@ bool LeafClassifier::classify(const ChangedLeaf& leaf,
       for (int y = 0; y < kDim; ++y)
         for (int z = 0; z < kDim; ++z, ++n)
           if (leaf.observed[n]) tsdf_[padded(x, y, z)] = volume::unpackTsdf(leaf.voxels[n]);
-    for (int axis = 0; axis < 3; ++axis)
-      for (int side = 0; side < 2; ++side) {
-        const int u = axis == 0 ? 1 : 0, v = axis == 2 ? 1 : 2;
-        for (int a = 0; a < kDim; ++a)
-          for (int b = 0; b < kDim; ++b) {
-            int at[3];
-            at[axis] = side ? kDim : -1;
-            at[u] = a;
-            at[v] = b;
-            tsdf_[padded(at[0], at[1], at[2])] = leaf.halo[ChangedLeaf::haloIndex(axis, side == 1, a, b)];
-          }
-      }
+    ChangedLeaf::forEachHaloVoxel([&](int i, int x, int y, int z) { tsdf_[padded(x, y, z)] = leaf.halo[i]; });
   }
   bool any_known = false;
   for (int x = 0, n = 0; x < kDim; ++x)

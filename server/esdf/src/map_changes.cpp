@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <optional>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -63,12 +64,11 @@ std::vector<openvdb::Coord> fieldLeavesReading(const std::vector<openvdb::Coord>
 // The map's grids through accessors of one task: neighbouring map leaves share their internal
 // nodes, so most look-ups stop at a cached node.
 struct MapReaders {
-  explicit MapReaders(const volume::LabeledVolume& map)
-      : geometry(map.geometryGrid().tree()),
-        free_space(map.freeSpaceGrid() ? map.freeSpaceGrid()->tree() : empty_free_space) {}
+  explicit MapReaders(const volume::LabeledVolume& map) : geometry(map.geometryGrid().tree()) {
+    if (map.freeSpaceGrid()) free_space.emplace(map.freeSpaceGrid()->tree());
+  }
   openvdb::tree::ValueAccessor<const volume::GeometryGrid::TreeType> geometry;
-  volume::FreeSpaceGrid::TreeType empty_free_space;
-  openvdb::tree::ValueAccessor<const volume::FreeSpaceGrid::TreeType> free_space;
+  std::optional<openvdb::tree::ValueAccessor<const volume::FreeSpaceGrid::TreeType>> free_space;  // none observed
 };
 
 // One field leaf read from the map at every stride-th voxel, its halo included. The field leaf's
@@ -86,8 +86,8 @@ void sampleLeaf(MapReaders& map, int stride, ChangedLeaf& out) {
         const openvdb::Coord leaf_origin = base.offsetBy(i * kDim, j * kDim, k * kDim);
         const auto* leaf = map.geometry.probeConstLeaf(leaf_origin);
         // Observed free space: a mask leaf, or a tile where the whole map leaf is free.
-        const auto* free_leaf = map.free_space.probeConstLeaf(leaf_origin);
-        const bool free_tile = !free_leaf && map.free_space.isValueOn(leaf_origin);
+        const auto* free_leaf = map.free_space ? map.free_space->probeConstLeaf(leaf_origin) : nullptr;
+        const bool free_tile = map.free_space && !free_leaf && map.free_space->isValueOn(leaf_origin);
         if (!leaf && !free_leaf && !free_tile) continue;
         for (int x = samplesFrom(i * kDim); x < samplesTo(i * kDim); ++x)
           for (int y = samplesFrom(j * kDim); y < samplesTo(j * kDim); ++y)
@@ -105,21 +105,12 @@ void sampleLeaf(MapReaders& map, int stride, ChangedLeaf& out) {
       }
   const auto sample = [&](int x, int y, int z) { return scaled(out.origin.offsetBy(x, y, z), stride); };
   out.halo.fill(std::numeric_limits<float>::quiet_NaN());
-  for (int axis = 0; axis < 3; ++axis)
-    for (int side = 0; side < 2; ++side) {
-      const int u = axis == 0 ? 1 : 0, v = axis == 2 ? 1 : 2;
-      for (int a = 0; a < kDim; ++a)
-        for (int b = 0; b < kDim; ++b) {
-          int at[3];
-          at[axis] = side ? kDim : -1;
-          at[u] = a;
-          at[v] = b;
-          volume::PackedVoxel packed;
-          if (!map.geometry.probeValue(sample(at[0], at[1], at[2]), packed)) continue;
-          out.halo[ChangedLeaf::haloIndex(axis, side == 1, a, b)] = volume::unpackTsdf(packed);
-          out.has_geometry = true;
-        }
-    }
+  ChangedLeaf::forEachHaloVoxel([&](int i, int x, int y, int z) {
+    volume::PackedVoxel packed;
+    if (!map.geometry.probeValue(sample(x, y, z), packed)) return;
+    out.halo[i] = volume::unpackTsdf(packed);
+    out.has_geometry = true;
+  });
 }
 
 MapChanges copySampledChanges(const volume::LabeledVolume& map, uint64_t revision, int stride) {

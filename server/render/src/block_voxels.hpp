@@ -16,21 +16,11 @@ class BlockVoxels {
  public:
   // False when the block's own leaf is not allocated: then none of its cells is observed.
   bool gather(const volume::GeometryGrid::ConstUnsafeAccessor& geometry, const openvdb::Coord& origin) {
-    for (int a = 0; a < 2; ++a)
-      for (int b = 0; b < 2; ++b)
-        for (int c = 0; c < 2; ++c) {
-          const auto* leaf = geometry.probeConstLeaf(origin.offsetBy(a * kLeafDim, b * kLeafDim, c * kLeafDim));
-          voxels_[a][b][c] = leaf ? leaf->buffer().data() : nullptr;
-        }
+    gatherLeaves(geometry, origin, voxels_);
     return voxels_[0][0][0] != nullptr;
   }
   void gatherColors(const volume::ColorGrid::ConstUnsafeAccessor& colors, const openvdb::Coord& origin) {
-    for (int a = 0; a < 2; ++a)
-      for (int b = 0; b < 2; ++b)
-        for (int c = 0; c < 2; ++c) {
-          const auto* leaf = colors.probeConstLeaf(origin.offsetBy(a * kLeafDim, b * kLeafDim, c * kLeafDim));
-          colors_[a][b][c] = leaf ? leaf->buffer().data() : nullptr;
-        }
+    gatherLeaves(colors, origin, colors_);
   }
 
   // 0 <= x, y, z < kBlockSpan; unallocated leaves read as unobserved, uncoloured ones as black.
@@ -50,6 +40,17 @@ class BlockVoxels {
   }
 
  private:
+  // The buffers of the 2 x 2 x 2 leaves from `origin`, null where a leaf is not allocated.
+  template <class Accessor, class Value>
+  static void gatherLeaves(const Accessor& grid, const openvdb::Coord& origin, const Value* (&out)[2][2][2]) {
+    for (int a = 0; a < 2; ++a)
+      for (int b = 0; b < 2; ++b)
+        for (int c = 0; c < 2; ++c) {
+          const auto* leaf = grid.probeConstLeaf(origin.offsetBy(a * kLeafDim, b * kLeafDim, c * kLeafDim));
+          out[a][b][c] = leaf ? leaf->buffer().data() : nullptr;
+        }
+  }
+
   const volume::PackedVoxel* voxels_[2][2][2] = {};  // [x / 8][y / 8][z / 8]
   const volume::PackedColor* colors_[2][2][2] = {};
 };

@@ -29,6 +29,23 @@ struct ChangedLeaf {
   static int haloIndex(int axis, bool max_side, int a, int b) {
     return (2 * axis + (max_side ? 1 : 0)) * 64 + a * 8 + b;
   }
+  // Calls fn(index in `halo`, x, y, z) for every halo voxel, (x, y, z) its local coordinates in
+  // the leaf's frame (one of them -1 or 8).
+  template <class Fn>
+  static void forEachHaloVoxel(Fn&& fn) {
+    for (int axis = 0; axis < 3; ++axis)
+      for (int side = 0; side < 2; ++side) {
+        const int u = axis == 0 ? 1 : 0, v = axis == 2 ? 1 : 2;
+        for (int a = 0; a < 8; ++a)
+          for (int b = 0; b < 8; ++b) {
+            int at[3];
+            at[axis] = side ? 8 : -1;
+            at[u] = a;
+            at[v] = b;
+            fn(haloIndex(axis, side == 1, a, b), at[0], at[1], at[2]);
+          }
+      }
+  }
 };
 
 struct MapChanges {

@@ -1,0 +1,45 @@
+#pragma once
+// What the distance field's accuracy tests compare against: the surface the field is built from
+// (the TSDF's zero crossings at the map's resolution) and percentiles of the errors.
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "fused_room.hpp"
+#include "semfuse/esdf/semantic_distance.hpp"
+
+namespace semfuse::esdf::testing {
+
+// Errors in voxels; percentile() sorts them.
+struct Errors {
+  std::vector<double> values;
+  double percentile(double p) {
+    if (values.empty()) return 0;
+    std::sort(values.begin(), values.end());
+    return values[std::min(values.size() - 1, static_cast<std::size_t>(p / 100.0 * values.size()))];
+  }
+};
+
+// Every zero crossing of the TSDF (between 6-neighbours observed on both sides), linearly
+// interpolated: the surface the field is built from.
+inline std::vector<SurfacePoint> tsdfCrossings(const volume::LabeledVolume& volume) {
+  std::vector<SurfacePoint> points;
+  openvdb::tree::ValueAccessor<const volume::GeometryGrid::TreeType> values(volume.geometryGrid().tree());
+  for (auto it = volume.geometryGrid().tree().cbeginValueOn(); it; ++it) {
+    const float a = volume::unpackTsdf(*it);
+    for (int axis = 0; axis < 3; ++axis) {
+      openvdb::Coord next = it.getCoord();
+      next[axis] += 1;
+      volume::PackedVoxel packed;
+      if (!values.probeValue(next, packed)) continue;
+      const float b = volume::unpackTsdf(packed);
+      if ((a < 0) == (b < 0)) continue;
+      Eigen::Vector3f p = centreOf(it.getCoord()).cast<float>();
+      p[axis] += static_cast<float>(kVoxel) * std::abs(a) / (std::abs(a) + std::abs(b));
+      points.push_back({p, kUnlabeled});
+    }
+  }
+  return points;
+}
+
+}  // namespace semfuse::esdf::testing
