@@ -2,6 +2,9 @@
 // top-5 update and its sidecar packing, then each rule through integrate() and a map file round trip.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <random>
 #include <vector>
@@ -197,6 +200,57 @@ TEST(LabelRules, BayesWeighsConfidenceThroughTheCalibratedLikelihood) {
   EXPECT_EQ(evidence.label, 5);
   EXPECT_NEAR(evidence.score, -0.4f, 1e-3f);
   EXPECT_EQ(evidence.sidecar, 0);  // evidence never touches a sidecar
+}
+
+// The integrator interpolates the bayes increment from a table of 1025 confidences instead of
+// taking a logarithm per voxel: within 1e-5 of the exact increment everywhere.
+TEST(LabelRules, TabulatedBayesIncrementIsWithinOneHundredThousandthOfTheExactOne) {
+  const auto config = ruleConfig(LabelRule::kBayes);
+  ASSERT_TRUE(config.bayes_increments);
+  double worst = 0.0;
+  for (int i = 0; i <= 100000; ++i) {
+    const float w = static_cast<float>(i) / 100000.0f;
+    worst = std::max(worst, std::abs(static_cast<double>(bayesIncrementFast(w, config)) - bayesIncrement(w, config)));
+  }
+  EXPECT_LT(worst, 1e-5);
+  EXPECT_GT(worst, 0.0);  // the table is used
+  EXPECT_EQ(bayesIncrementFast(1.0f, config), config.bayes_increments->back());
+  EXPECT_EQ(bayesIncrementFast(2.0f, config), config.bayes_increments->back());  // clamped as bayesIncrement clamps
+  EXPECT_FALSE(bayesIncrementFast(-0.5f, config) > 0.0f);                        // no evidence
+  EXPECT_FALSE(ruleConfig(LabelRule::kMajority).bayes_increments);               // only bayes needs it
+}
+
+// applyLabelRule takes a shortcut when the voxel has no runner-up and sees its leader again (or
+// its first label). Random sequences through it and through the whole candidate list
+// (applyTopLabels) end in the same bits, for both top-5 rules and for a clamp that is reached.
+TEST(LabelRules, ShortcutForTheLeaderGivesTheSameBitsAsTheCandidateList) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> confidence(0.0f, 1.0f);
+  std::uniform_int_distribution<int> pick(0, 99);
+  int shortcuts = 0;
+  for (LabelRule rule : {LabelRule::kBayes, LabelRule::kMajority})
+    for (float max_score : {16.0f, 3.0f}) {
+      const auto config = ruleConfig(rule, max_score);
+      for (int voxel = 0; voxel < 500; ++voxel) {
+        VoxelState fast, full;
+        const auto leader = static_cast<LabelId>(1 + voxel % 7);
+        for (int frame = 0; frame < 80; ++frame) {
+          // Mostly the leader, sometimes another label: runners-up come and are worn away.
+          const int roll = pick(rng);
+          const auto observed = static_cast<LabelId>(roll < 85 ? leader : 1 + roll % 9);
+          const float w = confidence(rng);
+          const bool shortcut = fast.sidecar == 0 && (fast.label == kUnlabeled || fast.label == observed);
+          shortcuts += shortcut ? 1 : 0;
+          applyLabelRule(config, fast.label, fast.score, &fast.sidecar, observed, w);
+          const float increment = rule == LabelRule::kMajority ? 1.0f : bayesIncrementFast(w, config);
+          if (increment > 0.0f) applyTopLabels(config, full.label, full.score, &full.sidecar, observed, increment);
+          ASSERT_EQ(fast.label, full.label) << "voxel " << voxel << " frame " << frame;
+          ASSERT_EQ(std::memcmp(&fast.score, &full.score, sizeof(float)), 0) << fast.score << " " << full.score;
+          ASSERT_EQ(fast.sidecar, full.sidecar);
+        }
+      }
+    }
+  EXPECT_GT(shortcuts, 50000);  // most updates took it
 }
 
 // The paper's noise model on 2000 voxels seen 60 times each: every observation is switched with

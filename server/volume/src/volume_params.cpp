@@ -40,6 +40,7 @@ LabelRuleConfig VolumeParams::labelRuleConfig() const {
   config.label_classes = static_cast<float>(label_classes);
   config.likelihood = label_likelihood;
   config.full_confidence_log_ratio = bayesLogRatio(1.0f, config.label_classes, config.likelihood);
+  if (label_rule == LabelRule::kBayes) config.bayes_increments = tabulateBayesIncrements(config);
   return config;
 }
 

@@ -36,7 +36,9 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
+#include <vector>
 
 #include "semfuse/core/legend.hpp"
 #include "semfuse/core/result.hpp"
@@ -67,6 +69,9 @@ struct LabelRuleConfig {
   float label_classes = 0.0f;              // L of the bayes likelihood
   float likelihood = 0.0f;                 // p_max: probability that a full-confidence pixel label is right
   float full_confidence_log_ratio = 0.0f;  // bayes evidence of one observation at w = 1 (the unit)
+  // bayesIncrement at confidences k / kBayesTableSteps (tabulateBayesIncrements), which the
+  // integrator interpolates instead of taking a logarithm per voxel; null: computed exactly.
+  std::shared_ptr<const std::vector<float>> bayes_increments;
 };
 
 // The chance-corrected log-likelihood ratio of the bayes rule for confidence w (0 at w = 0).
@@ -166,6 +171,42 @@ inline float bayesIncrement(float w, const LabelRuleConfig& config) {
   return bayesLogRatio(w, config.label_classes, config.likelihood) / config.full_confidence_log_ratio;
 }
 
+// Confidence steps of the bayes table: linear interpolation between them is within 1e-5 of
+// bayesIncrement everywhere (tests/volume/label_rules_test.cpp), far below the half-float step
+// of a stored score (1/64 at 16).
+inline constexpr int kBayesTableSteps = 1024;
+
+// The table of LabelRuleConfig::bayes_increments for this configuration.
+inline std::shared_ptr<const std::vector<float>> tabulateBayesIncrements(const LabelRuleConfig& config) {
+  auto table = std::make_shared<std::vector<float>>(kBayesTableSteps + 1);
+  for (int k = 0; k <= kBayesTableSteps; ++k)
+    (*table)[static_cast<std::size_t>(k)] = bayesIncrement(static_cast<float>(k) / kBayesTableSteps, config);
+  return table;
+}
+
+// bayesIncrement from the config's table where it has one.
+inline float bayesIncrementFast(float w, const LabelRuleConfig& config) {
+  if (!config.bayes_increments || !(w > 0.0f)) return bayesIncrement(w, config);
+  const float* table = config.bayes_increments->data();
+  const float x = std::min(w, 1.0f) * static_cast<float>(kBayesTableSteps);
+  const int step = static_cast<int>(x);
+  if (step >= kBayesTableSteps) return table[kBayesTableSteps];
+  return table[step] + (x - static_cast<float>(step)) * (table[step + 1] - table[step]);
+}
+
+// The top-5 rules' update with `increment` (> 0) of evidence for `observed`, through the whole
+// candidate list: unpack, accumulateTopLabels, pack. Kept out of line so that the common case in
+// applyLabelRule stays small enough to inline into the integrator's loop.
+[[gnu::noinline]] inline void applyTopLabels(const LabelRuleConfig& config, LabelId& label, float& score,
+                                             PackedLabelSidecar* sidecar, LabelId observed, float increment) {
+  const float quanta_per_unit = runnerUpQuantaPerUnit(config.max_score);
+  LabelCandidates c = unpackCandidates(label, score, *sidecar, quanta_per_unit);
+  accumulateTopLabels(c, observed, increment, config.max_score);
+  label = c.label[0];
+  score = c.score[0];
+  *sidecar = packSidecar(c, quanta_per_unit);
+}
+
 // The per-voxel update of every rule, called by the integrator where a frame's label reaches a
 // voxel. `sidecar` points at the voxel's sidecar value (unused, may be null, for evidence).
 inline void applyLabelRule(const LabelRuleConfig& config, LabelId& label, float& score, PackedLabelSidecar* sidecar,
@@ -175,14 +216,19 @@ inline void applyLabelRule(const LabelRuleConfig& config, LabelId& label, float&
     return;
   }
   if (observed > kMaxRunnerUpLabel) return;  // cannot be a runner-up: outside the rule's legends
-  const float increment = config.rule == LabelRule::kMajority ? 1.0f : bayesIncrement(w, config);
+  const float increment = config.rule == LabelRule::kMajority ? 1.0f : bayesIncrementFast(w, config);
   if (!(increment > 0.0f)) return;
-  const float quanta_per_unit = runnerUpQuantaPerUnit(config.max_score);
-  LabelCandidates c = unpackCandidates(label, score, *sidecar, quanta_per_unit);
-  accumulateTopLabels(c, observed, increment, config.max_score);
-  label = c.label[0];
-  score = c.score[0];
-  *sidecar = packSidecar(c, quanta_per_unit);
+  // Most updates meet a voxel with no runner-up that sees its leader again, or its first label:
+  // the list's result is then the leader's score plus the increment, clamped, and an empty
+  // sidecar. The same arithmetic as accumulateTopLabels (`top - (top - clamp)`, not `clamp`), so
+  // the bits are the same whichever way a voxel goes.
+  if (*sidecar == 0 && (label == kUnlabeled || (label == observed && score >= 0.0f))) {
+    const float top = label == kUnlabeled ? increment : score + increment;
+    score = top > config.max_score ? top - (top - config.max_score) : top;
+    label = observed;
+    return;
+  }
+  applyTopLabels(config, label, score, sidecar, observed, increment);
 }
 
 }  // namespace semfuse::volume
