@@ -39,7 +39,8 @@ struct TestFrame {
 // A sphere in front of a tilted wall, seen from a camera moving around them; depth with a few
 // percent of invalid pixels (0, NaN, beyond max_depth), a colour gradient with per-pixel noise,
 // labels by region at half resolution with varied confidences, some of them background (7),
-// zero or NaN. Every image is a view into a larger buffer, so rows are strided.
+// unlabeled or beyond 1023, zero or NaN. Every image is a view into a larger buffer, so rows
+// are strided.
 // labels_size: the label image's size (the depth's, a power-of-two fraction, or any other).
 std::vector<TestFrame> makeSequence(int frames, unsigned seed, cv::Size labels_size) {
   const PinholeIntrinsics k = smallCamera();
@@ -83,6 +84,7 @@ std::vector<TestFrame> makeSequence(int frames, unsigned seed, cv::Size labels_s
         const float r = unit(rng);
         f.labels.at<uint16_t>(v, u) = r < 0.1f    ? 7
                                       : r < 0.15f ? 0
+                                      : r < 0.17f ? 1500  // beyond the top-5 rules' 10-bit runners-up
                                                   : static_cast<uint16_t>(1 + (u / 10 + v / 15 + i % 3) % 5);
         const float c = unit(rng);
         f.confidence.at<float>(v, u) = c < 0.05f   ? 0.0f

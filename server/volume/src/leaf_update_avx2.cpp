@@ -1,7 +1,8 @@
 // The AVX2 + F16C leaf update: one z-column of 8 voxels per 256-bit register. Projection, depth
 // gather, band tests, the TSDF/weight running average, half conversions (vcvtph2ps/vcvtps2ph),
 // the colour blend and the evidence rule (Algorithm 1, as masks and blends) run 8 voxels at a
-// time; the top-5 label rules, with their sidecar, stay per voxel on the lanes that need them.
+// time; so does the top-5 rules' common case (a voxel without runner-up seeing its leader again),
+// and their other updates, with the sidecar, stay per voxel on the lanes that need them.
 //
 // Only these functions carry target("avx2,f16c"): the rest of the library, and every inline
 // library function this file instantiates out of line, stays baseline x86-64, so nothing compiled
@@ -75,20 +76,25 @@ SEMFUSE_AVX2 inline __m256i laneMask(unsigned lanes) {
   return _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(static_cast<int>(lanes)), bit), bit);
 }
 
-// Whether fuseEvidence() can address this frame's label and confidence images with int32 byte
-// offsets (and read 32 bits around the last label column, which needs a second column).
-bool evidenceGatherable(const FrameView& frame, const KernelConfig& config) {
+// Whether gatherPixelLabels() can address this frame's label and confidence images with int32
+// byte offsets (and read 32 bits around the last label column, which needs a second column).
+bool labelsGatherable(const FrameView& frame) {
   const auto rows = static_cast<std::size_t>(frame.label_height);
-  return config.label_rule.rule == LabelRule::kEvidence && frame.label_width >= 2 &&
-         rows * frame.label_stride * sizeof(uint16_t) < static_cast<std::size_t>(INT_MAX) &&
+  return frame.label_width >= 2 && rows * frame.label_stride * sizeof(uint16_t) < static_cast<std::size_t>(INT_MAX) &&
          rows * frame.confidence_stride < static_cast<std::size_t>(INT_MAX / 4);
 }
 
-// Algorithm 1 (the evidence rule) on the label half of the `lanes` of a column whose depth pixels
-// are (ui, vi): what applyPixelLabel() does per voxel, 8 voxels at a time. Returns the lanes it
-// changed (label neither ignored nor with a confidence that is <= 0 or not finite).
-SEMFUSE_AVX2 inline unsigned fuseEvidence(__m256i& high, unsigned lanes, __m256i ui, __m256i vi, const FrameView& frame,
-                                          const KernelConfig& config) {
+// The frame's label and confidence at the `lanes` of a column whose depth pixels are (ui, vi),
+// and the lanes a rule fuses (label not ignored, 0 < confidence < inf): what applyPixelLabel()
+// reads per voxel, 8 voxels at a time.
+struct PixelLabels {
+  __m256i observed;  // label, 32-bit lanes
+  __m256 w;          // confidence
+  unsigned fused_lanes;
+};
+
+SEMFUSE_AVX2 inline PixelLabels gatherPixelLabels(unsigned lanes, __m256i ui, __m256i vi, const FrameView& frame,
+                                                  const KernelConfig& config) {
   const __m256i zero = _mm256_setzero_si256();
   const __m256i mask = laneMask(lanes);
   // Label pixel of each depth pixel: a shift where the sizes allow (no dependent gather), else the table.
@@ -107,33 +113,47 @@ SEMFUSE_AVX2 inline unsigned fuseEvidence(__m256i& high, unsigned lanes, __m256i
       _mm256_add_epi32(_mm256_slli_epi32(label_index, 1), _mm256_add_epi32(in_last_column, in_last_column));
   const __m256i raw =
       _mm256_mask_i32gather_epi32(zero, reinterpret_cast<const int*>(frame.labels), label_bytes, mask, 1);
-  const __m256i observed = _mm256_and_si256(
-      _mm256_srlv_epi32(raw, _mm256_and_si256(in_last_column, _mm256_set1_epi32(16))), _mm256_set1_epi32(0xFFFF));
-  const __m256 w =
-      frame.confidence
-          ? _mm256_mask_i32gather_ps(
-                _mm256_setzero_ps(), frame.confidence,
-                _mm256_add_epi32(_mm256_mullo_epi32(lv, _mm256_set1_epi32(static_cast<int>(frame.confidence_stride))),
-                                 lu),
-                _mm256_castsi256_ps(mask), 4)
-          : _mm256_set1_ps(1.0f);
+  PixelLabels px;
+  px.observed = _mm256_and_si256(_mm256_srlv_epi32(raw, _mm256_and_si256(in_last_column, _mm256_set1_epi32(16))),
+                                 _mm256_set1_epi32(0xFFFF));
+  px.w = frame.confidence
+             ? _mm256_mask_i32gather_ps(
+                   _mm256_setzero_ps(), frame.confidence,
+                   _mm256_add_epi32(
+                       _mm256_mullo_epi32(lv, _mm256_set1_epi32(static_cast<int>(frame.confidence_stride))), lu),
+                   _mm256_castsi256_ps(mask), 4)
+             : _mm256_set1_ps(1.0f);
   __m256i ignored;
   if (config.ignored->onlyUnlabeled()) {
-    ignored = _mm256_cmpeq_epi32(observed, zero);
+    ignored = _mm256_cmpeq_epi32(px.observed, zero);
   } else {
     const __m256i word = _mm256_mask_i32gather_epi32(zero, reinterpret_cast<const int*>(config.ignored->words()),
-                                                     _mm256_srli_epi32(observed, 5), mask, 4);
-    const __m256i bit = _mm256_and_si256(_mm256_srlv_epi32(word, _mm256_and_si256(observed, _mm256_set1_epi32(31))),
+                                                     _mm256_srli_epi32(px.observed, 5), mask, 4);
+    const __m256i bit = _mm256_and_si256(_mm256_srlv_epi32(word, _mm256_and_si256(px.observed, _mm256_set1_epi32(31))),
                                          _mm256_set1_epi32(1));
     ignored = _mm256_cmpeq_epi32(bit, _mm256_set1_epi32(1));
   }
   // 0 < w < inf is false for NaN, as the scalar w > 0 && isfinite(w).
   const __m256 usable =
-      _mm256_and_ps(_mm256_cmp_ps(w, _mm256_setzero_ps(), _CMP_GT_OQ),
-                    _mm256_cmp_ps(w, _mm256_set1_ps(std::numeric_limits<float>::infinity()), _CMP_LT_OQ));
+      _mm256_and_ps(_mm256_cmp_ps(px.w, _mm256_setzero_ps(), _CMP_GT_OQ),
+                    _mm256_cmp_ps(px.w, _mm256_set1_ps(std::numeric_limits<float>::infinity()), _CMP_LT_OQ));
   const __m256i fuse = _mm256_andnot_si256(ignored, _mm256_and_si256(mask, _mm256_castps_si256(usable)));
-  const auto fused_lanes = static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(fuse)));
-  if (fused_lanes == 0) return 0;
+  px.fused_lanes = static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(fuse)));
+  return px;
+}
+
+// Algorithm 1 (the evidence rule) on the label half of the `lanes` of a column whose depth pixels
+// are (ui, vi): what applyPixelLabel() does per voxel, 8 voxels at a time. Returns the lanes it
+// changed (label neither ignored nor with a confidence that is <= 0 or not finite).
+SEMFUSE_AVX2 inline unsigned fuseEvidence(__m256i& high, unsigned lanes, __m256i ui, __m256i vi, const FrameView& frame,
+                                          const KernelConfig& config) {
+  const PixelLabels px = gatherPixelLabels(lanes, ui, vi, frame, config);
+  if (px.fused_lanes == 0) return 0;
+  const __m256i zero = _mm256_setzero_si256();
+  const __m256i observed = px.observed;
+  const __m256 w = px.w;
+  const __m256i fuse = laneMask(px.fused_lanes);
+  const unsigned fused_lanes = px.fused_lanes;
 
   const __m256i label = _mm256_and_si256(high, _mm256_set1_epi32(0xFFFF));
   const __m256 score = halvesToFloats(_mm256_srli_epi32(high, 16));
@@ -148,6 +168,63 @@ SEMFUSE_AVX2 inline unsigned fuseEvidence(__m256i& high, unsigned lanes, __m256i
   const __m256i new_high = _mm256_or_si256(new_label, _mm256_slli_epi32(floatsToHalves(new_score), 16));
   high = _mm256_blendv_epi8(high, new_high, fuse);
   return fused_lanes;
+}
+
+// The top-5 rules' common case, applyLabelRule()'s shortcut, 8 voxels at a time: on the lanes
+// whose voxel has no runner-up and sees its leader again (or its first label), the leader's score
+// grows by the increment up to the clamp, with the scalar code's arithmetic. Updates `high` on
+// those lanes, counts them in `labeled`, and returns the other fused lanes, which go through
+// applyPixelLabel() one by one (fused: label not ignored, usable confidence; the rest are left as
+// they are, as applyPixelLabel() leaves them).
+SEMFUSE_AVX2 inline unsigned topLabelsShortcut(__m256i& high, const PackedLabelSidecar* sidecars, unsigned lanes,
+                                               __m256i ui, __m256i vi, const FrameView& frame,
+                                               const KernelConfig& config, std::size_t& labeled) {
+  const PixelLabels px = gatherPixelLabels(lanes, ui, vi, frame, config);
+  if (px.fused_lanes == 0) return 0;
+  const LabelRuleConfig& rule = config.label_rule;
+  const __m256 zero = _mm256_setzero_ps();
+  __m256 increment = _mm256_set1_ps(1.0f);  // majority
+  if (rule.rule == LabelRule::kBayes) {
+    // bayesIncrementFast: the table interpolated at min(w, 1) * steps, its last entry at w = 1.
+    const float* table = rule.bayes_increments->data();
+    const __m256 x =
+        _mm256_mul_ps(_mm256_min_ps(px.w, _mm256_set1_ps(1.0f)), _mm256_set1_ps(static_cast<float>(kBayesTableSteps)));
+    const __m256i step = _mm256_cvttps_epi32(x);
+    const __m256i inner = _mm256_min_epi32(step, _mm256_set1_epi32(kBayesTableSteps - 1));
+    const __m256 fused = _mm256_castsi256_ps(laneMask(px.fused_lanes));
+    const __m256 below = _mm256_mask_i32gather_ps(zero, table, inner, fused, 4);
+    const __m256 above = _mm256_mask_i32gather_ps(zero, table + 1, inner, fused, 4);
+    const __m256 between =
+        _mm256_add_ps(below, _mm256_mul_ps(_mm256_sub_ps(x, _mm256_cvtepi32_ps(inner)), _mm256_sub_ps(above, below)));
+    const __m256 at_end = _mm256_castsi256_ps(_mm256_cmpgt_epi32(step, _mm256_set1_epi32(kBayesTableSteps - 1)));
+    increment = _mm256_blendv_ps(between, _mm256_set1_ps(table[kBayesTableSteps]), at_end);
+  }
+  const __m256i zero_i = _mm256_setzero_si256();
+  const __m256i label = _mm256_and_si256(high, _mm256_set1_epi32(0xFFFF));
+  const __m256 score = halvesToFloats(_mm256_srli_epi32(high, 16));
+  const auto* sidecar_words = reinterpret_cast<const __m256i*>(sidecars);
+  const auto no_runner_up = static_cast<unsigned>(
+      _mm256_movemask_pd(_mm256_castsi256_pd(_mm256_cmpeq_epi64(_mm256_loadu_si256(sidecar_words), zero_i))) |
+      (_mm256_movemask_pd(_mm256_castsi256_pd(_mm256_cmpeq_epi64(_mm256_loadu_si256(sidecar_words + 1), zero_i)))
+       << 4));
+  const __m256i unlabeled = _mm256_cmpeq_epi32(label, zero_i);
+  const __m256 leader_again = _mm256_and_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(label, px.observed)),
+                                            _mm256_cmp_ps(score, zero, _CMP_GE_OQ));
+  const __m256 in_sidecar_range =
+      _mm256_castsi256_ps(_mm256_cmpgt_epi32(_mm256_set1_epi32(static_cast<int>(kMaxRunnerUpLabel) + 1), px.observed));
+  const __m256 eligible = _mm256_and_ps(_mm256_and_ps(in_sidecar_range, _mm256_cmp_ps(increment, zero, _CMP_GT_OQ)),
+                                        _mm256_or_ps(_mm256_castsi256_ps(unlabeled), leader_again));
+  const unsigned shortcut = px.fused_lanes & no_runner_up & static_cast<unsigned>(_mm256_movemask_ps(eligible));
+  if (shortcut != 0) {
+    const __m256 top = _mm256_blendv_ps(_mm256_add_ps(score, increment), increment, _mm256_castsi256_ps(unlabeled));
+    const __m256 clamp = _mm256_set1_ps(rule.max_score);
+    const __m256 new_score =
+        _mm256_blendv_ps(top, _mm256_sub_ps(top, _mm256_sub_ps(top, clamp)), _mm256_cmp_ps(top, clamp, _CMP_GT_OQ));
+    const __m256i new_high = _mm256_or_si256(px.observed, _mm256_slli_epi32(floatsToHalves(new_score), 16));
+    high = _mm256_blendv_epi8(high, new_high, laneMask(shortcut));
+    labeled += static_cast<std::size_t>(__builtin_popcount(shortcut));
+  }
+  return px.fused_lanes & ~shortcut;
 }
 
 template <bool kGeometry, bool kColor, bool kLabels>
@@ -177,7 +254,12 @@ SEMFUSE_AVX2 KernelCounts updateLeaf(const LeafPair& leaf, const FrameView& fram
   const __m256i color_stride = _mm256_set1_epi32(static_cast<int>(frame.color_stride));
   const __m256i last_column = _mm256_set1_epi32(frame.width - 1);
   const __m256i low16 = _mm256_set1_epi32(0xFFFF), byte = _mm256_set1_epi32(0xFF);
-  const bool vector_evidence = kLabels && evidenceGatherable(frame, config);
+  const bool labels_gatherable = kLabels && labelsGatherable(frame);
+  const LabelRuleConfig& rule = config.label_rule;
+  const bool vector_evidence = labels_gatherable && rule.rule == LabelRule::kEvidence;
+  const bool vector_shortcut =
+      labels_gatherable && leaf.label_sidecar != nullptr &&
+      (rule.rule == LabelRule::kMajority || (rule.rule == LabelRule::kBayes && rule.bayes_increments != nullptr));
 
   for (int x = 0; x < kLeafDim; ++x) {
     uint64_t active_bits = 0;
@@ -261,24 +343,30 @@ SEMFUSE_AVX2 KernelCounts updateLeaf(const LeafPair& leaf, const FrameView& fram
         if (label_lanes != 0 && vector_evidence) {
           counts.labeled +=
               static_cast<std::size_t>(__builtin_popcount(fuseEvidence(bits.high, label_lanes, ui, vi, frame, config)));
-        } else if (label_lanes != 0) {  // the top-5 rules: per voxel, with the sidecar
-          alignas(32) uint32_t low[kLeafDim], high[kLeafDim];
-          alignas(32) int col[kLeafDim], row[kLeafDim];
-          _mm256_store_si256(reinterpret_cast<__m256i*>(low), bits.low);
-          _mm256_store_si256(reinterpret_cast<__m256i*>(high), bits.high);
-          _mm256_store_si256(reinterpret_cast<__m256i*>(col), ui);
-          _mm256_store_si256(reinterpret_cast<__m256i*>(row), vi);
-          for (unsigned lanes = label_lanes; lanes != 0; lanes &= lanes - 1) {
-            const int z = __builtin_ctz(lanes);
-            uint64_t voxel = uint64_t{low[z]} | (uint64_t{high[z]} << 32);
-            PackedLabelSidecar* sidecar =
-                leaf.label_sidecar ? leaf.label_sidecar->buffer().data() + (row_offset | z) : nullptr;
-            if (applyPixelLabel(voxel, sidecar, frame, col[z], row[z], config)) {
-              high[z] = static_cast<uint32_t>(voxel >> 32);
-              ++counts.labeled;
+        } else if (label_lanes != 0) {  // the top-5 rules, with the sidecar
+          unsigned per_voxel = label_lanes;
+          if (vector_shortcut)
+            per_voxel = topLabelsShortcut(bits.high, leaf.label_sidecar->buffer().data() + row_offset, label_lanes, ui,
+                                          vi, frame, config, counts.labeled);
+          if (per_voxel != 0) {  // the lanes the shortcut does not settle, one by one
+            alignas(32) uint32_t low[kLeafDim], high[kLeafDim];
+            alignas(32) int col[kLeafDim], row[kLeafDim];
+            _mm256_store_si256(reinterpret_cast<__m256i*>(low), bits.low);
+            _mm256_store_si256(reinterpret_cast<__m256i*>(high), bits.high);
+            _mm256_store_si256(reinterpret_cast<__m256i*>(col), ui);
+            _mm256_store_si256(reinterpret_cast<__m256i*>(row), vi);
+            for (unsigned lanes = per_voxel; lanes != 0; lanes &= lanes - 1) {
+              const int z = __builtin_ctz(lanes);
+              uint64_t voxel = uint64_t{low[z]} | (uint64_t{high[z]} << 32);
+              PackedLabelSidecar* sidecar =
+                  leaf.label_sidecar ? leaf.label_sidecar->buffer().data() + (row_offset | z) : nullptr;
+              if (applyPixelLabel(voxel, sidecar, frame, col[z], row[z], config)) {
+                high[z] = static_cast<uint32_t>(voxel >> 32);
+                ++counts.labeled;
+              }
             }
+            bits.high = _mm256_load_si256(reinterpret_cast<const __m256i*>(high));
           }
-          bits.high = _mm256_load_si256(reinterpret_cast<const __m256i*>(high));
         }
       }
       storeColumn(column, bits);
