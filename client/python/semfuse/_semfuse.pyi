@@ -354,6 +354,48 @@ class VoxelSamples(TypedDict):
     tsdf: FloatArray
     weight: FloatArray
 
+class DistanceSamples(TypedDict):
+    """What MapClient.distances returns: one entry per point."""
+
+    known: npt.NDArray[np.bool_]  # False: nobody observed the point
+    beyond: npt.NDArray[np.bool_]  # no surface within the field's maximum distance
+    distance: FloatArray  # metres, negative inside obstacles
+    gradient: FloatArray  # (N, 3) unit, away from the nearest surface in free space
+
+class OccupancySlice(TypedDict):
+    """What MapClient.occupancy_slice returns (nav_msgs/OccupancyGrid's layout)."""
+
+    cells: npt.NDArray[np.int8]  # (H, W): 0 free, 99 inflated, 100 occupied, -1 unknown
+    resolution: float
+    origin: npt.NDArray[np.float64]  # (2,) x, y of cell (0, 0)'s minimum corner
+    z: float
+    frame_id: str
+
+class SemanticSamples(TypedDict):
+    """What MapClient.semantic_distances returns: one entry per point."""
+
+    found: npt.NDArray[np.bool_]
+    label: npt.NDArray[np.uint16]
+    distance: FloatArray
+    direction: FloatArray  # (N, 3) unit, towards surface_point
+    surface_point: npt.NDArray[np.float64]  # (N, 3)
+
+class SemanticSlice(TypedDict):
+    """What MapClient.semantic_slice returns."""
+
+    distance: FloatArray  # (H, W) metres, +inf where no surface of the labels exists
+    min: npt.NDArray[np.float64]  # (2,)
+    resolution: float
+    z: float
+
+class SegmentChecks(TypedDict):
+    """What MapClient.check_segments returns: one entry per segment."""
+
+    status: npt.NDArray[np.uint8]  # 0 free, 1 collision, 2 unknown
+    fraction: FloatArray
+    blocked_at: npt.NDArray[np.float64]  # (N, 3)
+    min_clearance: FloatArray
+
 class PoseIterator(Iterator[TrackedPose]):
     """The server's poses as they arrive (MapClient.poses())."""
 
@@ -402,6 +444,21 @@ class MapClient:
     def mesh(self, box_min: ArrayLike | None = None, box_max: ArrayLike | None = None,
              timeout: float | None = None) -> Mesh:
         """The labeled mesh of the map (or of the box); the timeout applies to each chunk."""
+    def distances(self, points: ArrayLike, timeout: float | None = None) -> DistanceSamples:
+        """Signed distance and unit gradient at (N, 3) world points (servers started with --esdf)."""
+    def occupancy_slice(self, z_min: float = 0.1, z_max: float = 1.0, bounds_min: ArrayLike | None = None,
+                        bounds_max: ArrayLike | None = None, inflation_radius: float = 0.0,
+                        timeout: float | None = None) -> OccupancySlice:
+        """A 2D occupancy grid of the height band, over the observed extent or the x, y box."""
+    def semantic_distances(self, labels: Iterable[int], points: ArrayLike,
+                           timeout: float | None = None) -> SemanticSamples:
+        """Distance and direction from (N, 3) points to the nearest surface of any of `labels`."""
+    def semantic_slice(self, labels: Iterable[int], z: float, bounds_min: ArrayLike, bounds_max: ArrayLike,
+                       resolution: float = 0.05, timeout: float | None = None) -> SemanticSlice:
+        """That distance over the horizontal plane at height z, in the x, y box."""
+    def check_segments(self, starts: ArrayLike, ends: ArrayLike, radius: float = 0.0,
+                       timeout: float | None = None) -> SegmentChecks:
+        """Whether a sphere of `radius` moved along each segment stays clear."""
     def status(self, timeout: float | None = None) -> ServerStatus:
         """Asks the server for its status now."""
     def latest_status(self) -> ServerStatus | None:

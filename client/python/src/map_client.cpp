@@ -1,5 +1,6 @@
-// semfuse.MapClient: every query of the map as a blocking call that releases the interpreter's
-// lock while it waits, with results as numpy arrays; the server's poses as an iterator or a
+// semfuse.MapClient: every query of the map (the distance field's among them, as dicts of arrays
+// from distance_arrays.hpp) as a blocking call that releases the interpreter's lock while it
+// waits, with results as numpy arrays; the server's poses as an iterator or a
 // callback (pose_subscription.cpp).
 #include <pybind11/stl.h>
 
@@ -7,6 +8,7 @@
 #include <deque>
 
 #include "arrays.hpp"
+#include "distance_arrays.hpp"
 #include "pose_subscription.hpp"
 #include "python_types.hpp"
 #include "runtime.hpp"
@@ -184,6 +186,52 @@ class MapClient {
     return meshFromPly(std::move(run([&](client::MapClient& c) { return c.mesh(box, t); }).ply));
   }
 
+  // The distance field (servers started with --esdf).
+  py::dict distances(const py::handle& points, const std::optional<double>& timeout) {
+    const auto p = pointsFromArray(points, "points");
+    const auto t = timeoutOr(timeout);
+    return distanceSamplesDict(run([&](client::MapClient& c) { return c.distances(p, t); }));
+  }
+  py::dict occupancySlice(double z_min, double z_max, const py::object& bounds_min, const py::object& bounds_max,
+                          double inflation_radius, const std::optional<double>& timeout) {
+    if (bounds_min.is_none() != bounds_max.is_none())
+      throw py::value_error("give both bounds_min and bounds_max, or neither");
+    client::OccupancySliceRequest request;
+    request.z_min = z_min;
+    request.z_max = z_max;
+    request.inflation_radius = inflation_radius;
+    if (!bounds_min.is_none()) {
+      request.use_bounds = true;
+      request.min = planePointFromArray(bounds_min, "bounds_min");
+      request.max = planePointFromArray(bounds_max, "bounds_max");
+    }
+    const auto t = timeoutOr(timeout);
+    return occupancyGridDict(run([&](client::MapClient& c) { return c.occupancySlice(request, t); }));
+  }
+  py::dict semanticDistances(const std::vector<LabelId>& labels, const py::handle& points,
+                             const std::optional<double>& timeout) {
+    const auto p = pointsFromArray(points, "points");
+    const auto t = timeoutOr(timeout);
+    return semanticSamplesDict(run([&](client::MapClient& c) { return c.semanticDistances(labels, p, t); }));
+  }
+  py::dict semanticSlice(const std::vector<LabelId>& labels, double z, const py::handle& bounds_min,
+                         const py::handle& bounds_max, double resolution, const std::optional<double>& timeout) {
+    client::SemanticSliceRequest request;
+    request.labels = labels;
+    request.z = z;
+    request.min = planePointFromArray(bounds_min, "bounds_min");
+    request.max = planePointFromArray(bounds_max, "bounds_max");
+    request.resolution = resolution;
+    const auto t = timeoutOr(timeout);
+    return semanticSliceDict(run([&](client::MapClient& c) { return c.semanticSlice(request, t); }));
+  }
+  py::dict checkSegments(const py::handle& starts, const py::handle& ends, double radius,
+                         const std::optional<double>& timeout) {
+    const auto segments = segmentsFromArrays(starts, ends);
+    const auto t = timeoutOr(timeout);
+    return segmentResultsDict(run([&](client::MapClient& c) { return c.checkSegments(segments, radius, t); }));
+  }
+
   ServerStatus status(const std::optional<double>& timeout) {
     const auto t = timeoutOr(timeout);
     return run([&](client::MapClient& c) { return c.stats(t); });
@@ -312,6 +360,40 @@ The voxels at (N, 3) world points: a dict of (N,) arrays ``observed`` (bool), ``
       .def("mesh", &MapClient::mesh, py::arg("box_min") = py::none(), py::arg("box_max") = py::none(),
            py::arg("timeout") = py::none(),
            "The labeled mesh of the map (or of the box): arrays and the PLY. The timeout applies to each chunk.")
+      .def("distances", &MapClient::distances, py::arg("points"), py::arg("timeout") = py::none(), R"doc(
+Signed distance to the nearest obstacle and its unit gradient at (N, 3) world points, from the
+server's distance field (servers started with ``--esdf``; others raise ``ServerError``). Returns a
+dict of arrays: ``known`` (N,) bool (False: nobody observed the point; the rest means nothing),
+``beyond`` (N,) bool (no surface within the field's maximum distance, which ``distance`` then
+holds), ``distance`` (N,) float32 metres, negative inside obstacles, ``gradient`` (N, 3) float32,
+pointing away from the nearest surface in free space.)doc")
+      .def("occupancy_slice", &MapClient::occupancySlice, py::arg("z_min") = 0.1, py::arg("z_max") = 1.0,
+           py::arg("bounds_min") = py::none(), py::arg("bounds_max") = py::none(), py::arg("inflation_radius") = 0.0,
+           py::arg("timeout") = py::none(), R"doc(
+A 2D occupancy grid of the height band [z_min, z_max] (world z up), as nav_msgs/OccupancyGrid
+holds it, over the whole observed extent or the x, y box ``bounds_min`` .. ``bounds_max``. Returns
+a dict: ``cells`` (H, W) int8 (0 free, 99 free within ``inflation_radius`` of an obstacle, 100
+occupied, -1 unknown; row 0 at the lowest y), ``resolution`` metres per cell, ``origin`` (2,) the
+x, y of cell (0, 0)'s minimum corner, ``z`` the band's middle, ``frame_id``.)doc")
+      .def("semantic_distances", &MapClient::semanticDistances, py::arg("labels"), py::arg("points"),
+           py::arg("timeout") = py::none(), R"doc(
+Distance and direction from (N, 3) world points to the nearest surface of any of ``labels``.
+Returns a dict of arrays: ``found`` (N,) bool (False: the map holds no surface of those labels),
+``label`` (N,) uint16, ``distance`` (N,) float32 metres, ``direction`` (N, 3) float32 unit vector
+towards ``surface_point`` (N, 3) float64.)doc")
+      .def("semantic_slice", &MapClient::semanticSlice, py::arg("labels"), py::arg("z"), py::arg("bounds_min"),
+           py::arg("bounds_max"), py::arg("resolution") = 0.05, py::arg("timeout") = py::none(), R"doc(
+The distance to the nearest surface of any of ``labels`` over the horizontal plane at height ``z``,
+in the x, y box ``bounds_min`` .. ``bounds_max``. Returns a dict: ``distance`` (H, W) float32 metres
+(+inf where the map holds no surface of those labels; row 0 at ``min``'s y), ``min`` (2,),
+``resolution``, ``z``.)doc")
+      .def("check_segments", &MapClient::checkSegments, py::arg("starts"), py::arg("ends"), py::arg("radius") = 0.0,
+           py::arg("timeout") = py::none(), R"doc(
+Whether a sphere of ``radius`` metres (0: a point) moved along each segment ``starts[i]`` ..
+``ends[i]`` ((N, 3) world points) stays clear. Returns a dict of arrays: ``status`` (N,) uint8 (0
+free, 1 collision, 2 enters unknown space), ``fraction`` (N,) float32 where along the segment it
+first failed (1 when free), ``blocked_at`` (N, 3) float64, ``min_clearance`` (N,) float32 metres
+between the sphere and the nearest surface along the way.)doc")
       .def("status", &MapClient::status, py::arg("timeout") = py::none(),
            "Asks the server for its status now (the admin service).")
       .def("latest_status", &MapClient::latestStatus,
