@@ -286,8 +286,11 @@ void serviceSeeds() {
   write("service_requests", "labels-at", withSelector(1, requestCdr<wire::LabelsAtCodec>(labels_at)));
   const Box region{{-1, -1, 0.5}, {1, 1, 2}};
   write("service_requests", "region", withSelector(2, requestCdr<wire::RegionCodec>(region)));
-  write("service_requests", "objects-all", withSelector(3, requestCdr<wire::ObjectsCodec>({0, 1})));
-  write("service_requests", "objects-5", withSelector(3, requestCdr<wire::ObjectsCodec>({5, 1})));
+  ObjectsRequest objects;
+  objects.min_voxels = 1;
+  write("service_requests", "objects-all", withSelector(3, requestCdr<wire::ObjectsCodec>(objects)));
+  objects.label = 5;
+  write("service_requests", "objects-5", withSelector(3, requestCdr<wire::ObjectsCodec>(objects)));
   write("service_requests", "mesh", withSelector(4, requestCdr<wire::MeshCodec>({})));
   const Box box{{-0.5, -0.5, 0.5}, {0.5, 0.5, 1.2}};
   write("service_requests", "mesh-box", withSelector(4, requestCdr<wire::MeshCodec>({box, 0, 0})));
