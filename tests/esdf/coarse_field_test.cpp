@@ -78,22 +78,12 @@ TEST(CoarseField, IncrementalUpdatesAgreeWithARebuild) {
   // A leaf is copied whenever one of its samples or its halo lies in a changed map leaf: the
   // frame-by-frame field knows exactly the voxels a rebuild does.
   ASSERT_EQ(rebuilt.knownVoxels(), room.coarse->knownVoxels());
-  openvdb::tree::ValueAccessor<const EsdfGrid::TreeType> other(rebuilt.grid().tree());
-  const float max_voxels = rebuilt.maxDistanceVoxels();
-  std::size_t compared = 0, differ = 0;
-  double worst = 0;
-  for (auto it = room.coarse->grid().tree().cbeginValueOn(); it; ++it) {
-    PackedEsdf packed;
-    ASSERT_TRUE(other.probeValue(it.getCoord(), packed));
-    const double a = unpackEsdf(*it).signedDistance(max_voxels), b = unpackEsdf(packed).signedDistance(max_voxels);
-    ++compared;
-    worst = std::max(worst, std::abs(a - b));
-    differ += std::abs(a - b) > 0.5;
-  }
-  std::printf("coarse incremental vs rebuild: %zu voxels, %zu differ by more than 0.5 voxel, worst %.2f\n", compared,
-              differ, worst);
-  EXPECT_LT(differ, compared / 50);
-  EXPECT_LE(worst, 2.0);
+  const FieldDifference d = compareFields(*room.coarse, rebuilt);
+  EXPECT_EQ(d.missing, 0u);
+  std::printf("coarse incremental vs rebuild: %zu voxels, %zu differ by more than 0.5 voxel, worst %.2f\n", d.compared,
+              d.differ, d.worst);
+  EXPECT_LT(d.differ, d.compared / 50);
+  EXPECT_LE(d.worst, 2.0);
 }
 
 TEST(CoarseField, ParametersRefuseAVoxelTheMapCannotFeed) {

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "fused_room.hpp"
+#include "semfuse/esdf/esdf_map.hpp"
 #include "semfuse/esdf/semantic_distance.hpp"
 
 namespace semfuse::esdf::testing {
@@ -40,6 +41,33 @@ inline std::vector<SurfacePoint> tsdfCrossings(const volume::LabeledVolume& volu
     }
   }
   return points;
+}
+
+// How a field differs from another over the same voxels (an incremental field against a
+// rebuild), in voxels: every known voxel of `field` looked up in `other`.
+struct FieldDifference {
+  std::size_t compared = 0;
+  std::size_t missing = 0;  // known in `field`, not in `other`
+  std::size_t differ = 0;   // by more than half a voxel
+  double worst = 0;
+};
+
+inline FieldDifference compareFields(const EsdfMap& field, const EsdfMap& other) {
+  FieldDifference result;
+  openvdb::tree::ValueAccessor<const EsdfGrid::TreeType> values(other.grid().tree());
+  const float max_voxels = other.maxDistanceVoxels();
+  for (auto it = field.grid().tree().cbeginValueOn(); it; ++it) {
+    PackedEsdf packed;
+    if (!values.probeValue(it.getCoord(), packed)) {
+      ++result.missing;
+      continue;
+    }
+    const double a = unpackEsdf(*it).signedDistance(max_voxels), b = unpackEsdf(packed).signedDistance(max_voxels);
+    ++result.compared;
+    result.worst = std::max(result.worst, std::abs(a - b));
+    result.differ += std::abs(a - b) > 0.5;
+  }
+  return result;
 }
 
 }  // namespace semfuse::esdf::testing

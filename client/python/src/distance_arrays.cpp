@@ -7,14 +7,14 @@
 namespace semfuse::python {
 namespace {
 
-// (N, 3) float32 from Eigen vectors, by a member of each element.
-template <class Sample, class Get>
-py::array_t<float> vectorsOf(const std::vector<Sample>& samples, Get get) {
-  py::array_t<float> out({static_cast<py::ssize_t>(samples.size()), py::ssize_t{3}});
-  auto view = out.mutable_unchecked<2>();
+// (N, 3) of T from Eigen vectors, by a member of each element.
+template <class T, class Sample, class Get>
+py::array_t<T> vectorsOf(const std::vector<Sample>& samples, Get get) {
+  py::array_t<T> out({static_cast<py::ssize_t>(samples.size()), py::ssize_t{3}});
+  auto view = out.template mutable_unchecked<2>();
   for (std::size_t i = 0; i < samples.size(); ++i) {
-    const auto v = get(samples[i]);
-    for (py::ssize_t k = 0; k < 3; ++k) view(static_cast<py::ssize_t>(i), k) = static_cast<float>(v[k]);
+    const auto& v = get(samples[i]);
+    for (py::ssize_t k = 0; k < 3; ++k) view(static_cast<py::ssize_t>(i), k) = static_cast<T>(v[k]);
   }
   return out;
 }
@@ -42,7 +42,8 @@ py::dict distanceSamplesDict(const std::vector<client::DistanceSample>& samples)
   out["known"] = valuesOf<bool>(samples, [](const S& s) { return s.known; });
   out["beyond"] = valuesOf<bool>(samples, [](const S& s) { return s.beyond; });
   out["distance"] = valuesOf<float>(samples, [](const S& s) { return s.distance; });
-  out["gradient"] = vectorsOf(samples, [](const S& s) { return s.gradient; });
+  out["gradient"] = vectorsOf<float>(
+      samples, [](const S& s) -> const auto& { return s.gradient; });
   return out;
 }
 
@@ -63,12 +64,10 @@ py::dict semanticSamplesDict(const std::vector<client::SemanticSample>& samples)
   out["found"] = valuesOf<bool>(samples, [](const S& s) { return s.found; });
   out["label"] = valuesOf<uint16_t>(samples, [](const S& s) { return s.label; });
   out["distance"] = valuesOf<float>(samples, [](const S& s) { return s.distance; });
-  out["direction"] = vectorsOf(samples, [](const S& s) { return s.direction; });
-  py::array_t<double> surface({static_cast<py::ssize_t>(samples.size()), py::ssize_t{3}});
-  auto view = surface.mutable_unchecked<2>();
-  for (std::size_t i = 0; i < samples.size(); ++i)
-    for (py::ssize_t k = 0; k < 3; ++k) view(static_cast<py::ssize_t>(i), k) = samples[i].surface_point[k];
-  out["surface_point"] = surface;
+  out["direction"] = vectorsOf<float>(
+      samples, [](const S& s) -> const auto& { return s.direction; });
+  out["surface_point"] = vectorsOf<double>(
+      samples, [](const S& s) -> const auto& { return s.surface_point; });
   return out;
 }
 
@@ -86,11 +85,8 @@ py::dict segmentResultsDict(const std::vector<client::SegmentResult>& results) {
   py::dict out;
   out["status"] = valuesOf<uint8_t>(results, [](const R& r) { return static_cast<uint8_t>(r.status); });
   out["fraction"] = valuesOf<float>(results, [](const R& r) { return r.fraction; });
-  py::array_t<double> blocked({static_cast<py::ssize_t>(results.size()), py::ssize_t{3}});
-  auto view = blocked.mutable_unchecked<2>();
-  for (std::size_t i = 0; i < results.size(); ++i)
-    for (py::ssize_t k = 0; k < 3; ++k) view(static_cast<py::ssize_t>(i), k) = results[i].blocked_at[k];
-  out["blocked_at"] = blocked;
+  out["blocked_at"] = vectorsOf<double>(
+      results, [](const R& r) -> const auto& { return r.blocked_at; });
   out["min_clearance"] = valuesOf<float>(results, [](const R& r) { return r.min_clearance; });
   return out;
 }
