@@ -177,5 +177,26 @@ TEST(EsdfAccuracy, IncrementalUpdatesAgreeWithARebuild) {
   EXPECT_LE(d.worst, 2.0);
 }
 
+// The field does not depend on where its leaves happen to lie in memory: the same changes, given in
+// the opposite order (so that the leaves are allocated the other way round), give the same bits.
+TEST(EsdfAccuracy, TheSameChangesGiveTheSameFieldWhateverTheOrderOfItsLeaves) {
+  const FusedRoom& room = fusedRoom();
+  EsdfMap forward(kVoxel, roomEsdfParams()), backward(kVoxel, roomEsdfParams());
+  forward.apply(copyChanges(*room.volume, 0));
+  MapChanges reversed = copyChanges(*room.volume, 0);
+  std::reverse(reversed.leaves.begin(), reversed.leaves.end());
+  backward.apply(reversed);
+  ASSERT_EQ(forward.grid().tree().leafCount(), backward.grid().tree().leafCount());
+  openvdb::tree::ValueAccessor<const EsdfGrid::TreeType> other(backward.grid().tree());
+  std::size_t voxels = 0, differ = 0;
+  for (auto leaf = forward.grid().tree().cbeginLeaf(); leaf; ++leaf) {
+    const auto* twin = other.probeConstLeaf(leaf->origin());
+    ASSERT_NE(twin, nullptr) << leaf->origin();
+    for (openvdb::Index n = 0; n < EsdfGrid::TreeType::LeafNodeType::SIZE; ++n, ++voxels)
+      differ += leaf->getValue(n) != twin->getValue(n) || leaf->isValueOn(n) != twin->isValueOn(n);
+  }
+  EXPECT_EQ(differ, 0u) << "of " << voxels << " voxels";
+}
+
 }  // namespace
 }  // namespace semfuse::esdf::testing

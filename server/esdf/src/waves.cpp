@@ -103,9 +103,11 @@ void Waves::lower(UpdateStats& stats) {
   seeds_.clear();
   for (current_ = 0; current_ < buckets_.size(); ++current_) {
     // Any order within a bucket will do: leaf by leaf, the neighbours of one voxel are still in
-    // the cache for the next (in queue order the field is read all over the map).
+    // the cache for the next (in queue order the field is read all over the map). Leaves go by
+    // origin, not address, so that the same changes give the same field in every run (which of
+    // two nearly equal sites a voxel keeps depends on the order).
     std::sort(buckets_[current_].begin(), buckets_[current_].end(), [](const Queued& a, const Queued& b) {
-      return a.voxel.leaf != b.voxel.leaf ? a.voxel.leaf < b.voxel.leaf : a.voxel.n < b.voxel.n;
+      return a.voxel.leaf != b.voxel.leaf ? a.voxel.leaf->origin() < b.voxel.leaf->origin() : a.voxel.n < b.voxel.n;
     });
     // Relaxing a voxel queues its neighbours in this bucket or later ones, never earlier (and
     // may grow the queue: no references into it across a relax).
