@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <future>
 #include <thread>
 
 #include <gtest/gtest.h>
@@ -77,6 +78,58 @@ TEST(FusionErrors, MalformedFramesAreIntegrationFailuresAnUnplacedCameraIsLostNo
   EXPECT_EQ(cameras.at("b").frames_since_lost, 1u);
   EXPECT_EQ(cameras.at("b").relocalisations, 0u);
   EXPECT_FALSE(cameras.at("b").lost_reason.empty());
+}
+
+// A segmentation that waits for a frame the queue then drops is counted as soon as a later frame
+// of its camera is fused, not left to be evicted (pending_full) or to time out.
+TEST(FusionErrors, ASegmentationOfADroppedFrameIsCountedWhenALaterFrameIsFused) {
+  Mapper mapper(mapperOptions());
+  FrameQueue frames(1);
+  ServerState state;
+  FusionLimits limits;
+  limits.pending_timeout_s = 60.0;
+  FusionLoop loop(mapper, frames, state, limits, nullptr);
+  loop.start();
+  ASSERT_FALSE(frames.push(wallFrame("a", 1, true)));
+  waitIdle(loop);
+  // Segmentations of frames 2 and 4 arrive first and wait; frame 2 is then dropped at the full
+  // queue (the fusion thread is held by a task meanwhile) and frame 3 is fused.
+  std::promise<void> started, release;
+  auto held = std::async(std::launch::async, [&] {
+    return loop.runOnFusionThread(
+        [&] {
+          started.set_value();
+          release.get_future().wait();
+          return Status::Ok();
+        },
+        10s);
+  });
+  started.get_future().wait();
+  for (uint64_t seq : {2u, 4u}) {
+    Segmentation segmentation;
+    segmentation.camera_id = "a";
+    segmentation.segmenter_id = "s";
+    segmentation.frame_seq = seq;
+    segmentation.labels = cv::Mat(kHeight, kWidth, CV_16UC1, cv::Scalar(1));
+    loop.submitSegmentation(std::move(segmentation));
+  }
+  ASSERT_FALSE(frames.push(wallFrame("a", 2, true)));
+  const auto evicted = frames.push(wallFrame("a", 3, true));
+  ASSERT_TRUE(evicted);
+  EXPECT_EQ(evicted->seq, 2u);
+  release.set_value();
+  ASSERT_TRUE(held.get().ok());
+  waitIdle(loop);
+  EXPECT_EQ(state.dropped.get(reason::kFrameDropped, "a"), 1u);  // the one of frame 2
+  EXPECT_EQ(loop.pendingSegmentations(), 1u);                    // frame 4's still waits
+  ASSERT_FALSE(frames.push(wallFrame("a", 4, true)));
+  waitIdle(loop);
+  loop.stop();
+  EXPECT_EQ(loop.pendingSegmentations(), 0u);
+  EXPECT_EQ(state.segmentations_integrated.load(), 1u);
+  EXPECT_EQ(state.dropped.get(reason::kFrameDropped, "a"), 1u);
+  EXPECT_EQ(state.dropped.get(reason::kPendingFull, "a"), 0u);
+  EXPECT_EQ(state.dropped.get(reason::kSegmentationTimeout, "a"), 0u);
 }
 
 TEST(FusionErrors, MapperNeverPlacesASecondPoselessCameraAtAGuess) {

@@ -120,6 +120,20 @@ TEST(PendingSegmentations, MatchesByCameraAndSeqAndExpires) {
   EXPECT_EQ(pending.size(), 1u);
 }
 
+TEST(PendingSegmentations, ReleasesOnlyThoseOfTheCameraBeforeTheFusedFrame) {
+  PendingSegmentations pending(8, 10s);
+  for (uint64_t seq : {3u, 5u, 7u}) EXPECT_TRUE(pending.add(makeSegmentation("a", seq)).empty());
+  EXPECT_TRUE(pending.add(makeSegmentation("b", 2)).empty());
+  auto orphaned = pending.takeBefore("a", 6);  // frames a/3 and a/5 will not come once a/6 is fused
+  ASSERT_EQ(orphaned.size(), 2u);
+  EXPECT_EQ(orphaned[0].frame_seq, 3u);
+  EXPECT_EQ(orphaned[1].frame_seq, 5u);
+  EXPECT_TRUE(pending.takeBefore("a", 6).empty());
+  EXPECT_EQ(pending.size(), 2u);  // a/7 and the other camera's b/2 still wait
+  EXPECT_EQ(pending.takeFor("a", 7).size(), 1u);
+  EXPECT_EQ(pending.takeFor("b", 2).size(), 1u);
+}
+
 TEST(PendingSegmentations, FullSetEvictsOldest) {
   PendingSegmentations pending(2, 10s);
   EXPECT_TRUE(pending.add(makeSegmentation("a", 1)).empty());

@@ -9,7 +9,8 @@ namespace {
 // segmentation (server/core/src/server_state.hpp).
 const std::set<std::string> kFrameDrops{"queue_full", "sequence_gap", "tracking_lost"};
 const std::set<std::string> kFrameRejections{"invalid_frame", "integration_failed"};
-const std::set<std::string> kSegmentationDrops{"pending_full", "segmentation_timeout", "unknown_frame"};
+const std::set<std::string> kSegmentationDrops{"frame_dropped", "pending_full", "segmentation_timeout",
+                                               "unknown_frame"};
 const std::set<std::string> kSegmentationRejections{"unknown_frame", "size_mismatch", "invalid_segmentation",
                                                     "label_out_of_legend", "unknown_camera"};
 

@@ -131,6 +131,13 @@ void FusionLoop::runTasks() {
 }
 
 void FusionLoop::processFrame(Frame frame) {
+  // The camera's earlier frames are fused or gone: segmentations still waiting for one of them
+  // are counted now, so that the waiting set holds only those that can still be fused.
+  for (const auto& orphaned : pending_.takeBefore(frame.camera_id, frame.seq)) {
+    state_.dropped.add(reason::kFrameDropped, orphaned.camera_id);
+    spdlog::debug("segmentation {} of {}/{}: its frame was dropped before fusion", orphaned.segmenter_id,
+                  orphaned.camera_id, orphaned.frame_seq);
+  }
   // A segmentation that was already waiting is fused in the same pass as the depth (one walk
   // over the voxels instead of two); any further ones for this frame follow separately.
   std::vector<Segmentation> waiting = pending_.takeFor(frame.camera_id, frame.seq);

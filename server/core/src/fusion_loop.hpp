@@ -1,8 +1,9 @@
 #pragma once
 // The fusion thread: the only writer of the map. Each turn it runs posted admin tasks (load,
 // reset), applies the segmentations that arrived, fuses the next frame (round-robin over
-// cameras), then applies segmentations that were waiting for that frame and expires the ones
-// that waited too long. Every input ends integrated or counted under a reason.
+// cameras), then applies segmentations that were waiting for that frame, counts those waiting
+// for an earlier frame of that camera (dropped before fusion) and expires the ones that waited
+// too long. Every input ends integrated or counted under a reason.
 #include <atomic>
 #include <chrono>
 #include <functional>

@@ -27,6 +27,19 @@ std::vector<Segmentation> PendingSegmentations::takeFor(const std::string& camer
   return matched;
 }
 
+std::vector<Segmentation> PendingSegmentations::takeBefore(const std::string& camera_id, uint64_t seq) {
+  std::vector<Segmentation> orphaned;
+  for (auto it = waiting_.begin(); it != waiting_.end();) {
+    if (it->segmentation.camera_id == camera_id && it->segmentation.frame_seq < seq) {
+      orphaned.push_back(std::move(it->segmentation));
+      it = waiting_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+  return orphaned;
+}
+
 std::vector<Segmentation> PendingSegmentations::expire(Clock::time_point now) {
   std::vector<Segmentation> expired;
   while (!waiting_.empty() && now - waiting_.front().arrived > timeout_) {

@@ -23,6 +23,10 @@ class PendingSegmentations {
   // Removes and returns every segmentation waiting for (camera, seq).
   std::vector<Segmentation> takeFor(const std::string& camera_id, uint64_t seq);
 
+  // Removes and returns every segmentation waiting for a frame of `camera_id` before `seq`: a
+  // camera's frames are fused in order, so once `seq` is fused those frames will not come.
+  std::vector<Segmentation> takeBefore(const std::string& camera_id, uint64_t seq);
+
   // Removes and returns those that waited longer than the timeout.
   std::vector<Segmentation> expire(Clock::time_point now = Clock::now());
 

@@ -22,7 +22,10 @@ inline constexpr const char* kQueueFull = "queue_full";  // drop: newer frame ca
 inline constexpr const char* kSequenceGap = "sequence_gap";
 inline constexpr const char* kPendingFull = "pending_full";                  // drop: too many waiting
 inline constexpr const char* kSegmentationTimeout = "segmentation_timeout";  // drop: frame never came
-inline constexpr const char* kTrackingLost = "tracking_lost";                // frame not integrated
+// A waiting segmentation whose frame will not come: a later frame of its camera was fused first,
+// so its own was dropped before fusion (queue_full) or never received (sequence_gap).
+inline constexpr const char* kFrameDropped = "frame_dropped";
+inline constexpr const char* kTrackingLost = "tracking_lost";  // frame not integrated
 inline constexpr const char* kInvalidFrame = "invalid_frame";
 inline constexpr const char* kInvalidSegmentation = "invalid_segmentation";
 inline constexpr const char* kLabelOutOfLegend = "label_out_of_legend";
