@@ -22,6 +22,7 @@
 #include "semfuse/volume/integrator.hpp"
 #include "semfuse/volume/labeled_volume.hpp"
 #include "semfuse/volume/map_file.hpp"
+#include "writer_first_mutex.hpp"
 
 namespace semfuse::server {
 
@@ -110,7 +111,8 @@ class Mapper {
 
   MapperOptions options_;
   tracking::Tracker tracker_;  // fusion thread only
-  mutable std::shared_mutex mutex_;
+  // Writer first: a frame waiting to be fused is not passed over by queries (writer_first_mutex.hpp).
+  mutable WriterFirstMutex mutex_;
   volume::LabeledVolume volume_;
   uint64_t revision_ = 0;  // guarded by mutex_
   std::function<void()> on_change_;
