@@ -73,6 +73,7 @@ TEST(PageMessages, ABlockWithoutColourSendsBlackAndRemovalsAndClearsAreShort) {
 
 TEST(PageMessages, JsonEscapesWhatNamesMayHoldAndWritesNoNaN) {
   EXPECT_EQ(jsonString("a\"b\\c\nd\x01"), "\"a\\\"b\\\\c\\nd\\u0001\"");
+  EXPECT_EQ(jsonString("tab\there, caf\xc3\xa9"), "\"tab\\there, caf\xc3\xa9\"");  // UTF-8 passes through
   LabelLegend legend;
   legend.name = "quote\"d";
   legend.labels = {{3, "chair \"old\"", {1, 2, 3}}};

@@ -88,27 +88,6 @@ std::string raycastMessage(const RaycastImages& view, const LabelLegend& legend)
   return out;
 }
 
-std::string jsonString(const std::string& text) {
-  std::string out = "\"";
-  for (const char c : text) {
-    switch (c) {
-      case '"':
-        out += "\\\"";
-        break;
-      case '\\':
-        out += "\\\\";
-        break;
-      case '\n':
-        out += "\\n";
-        break;
-      default:
-        if (static_cast<unsigned char>(c) < 0x20) out += fmt::format("\\u{:04x}", static_cast<unsigned>(c));
-        else out += c;
-    }
-  }
-  return out + "\"";
-}
-
 std::string legendJson(const LabelLegend& legend) {
   std::string labels;
   for (const LabelInfo& label : legend.labels) {

@@ -16,6 +16,7 @@
 
 #include "semfuse/client/map_follower.hpp"
 #include "semfuse/client/server_status.hpp"
+#include "semfuse/core/json_text.hpp"
 #include "semfuse/core/legend.hpp"
 #include "semfuse/core/service_types.hpp"
 #include "semfuse/core/types.hpp"
@@ -30,7 +31,6 @@ std::string clearedMessage();
 // Labels (CV_16UC1) in legend colours, black where the ray met nothing (depth 0), as a PNG.
 std::string raycastMessage(const RaycastImages& view, const LabelLegend& legend);
 
-std::string jsonString(const std::string& text);
 std::string legendJson(const LabelLegend& legend);
 
 // What the viewer itself counts, shown beside the server's counters.

@@ -6,9 +6,9 @@
 #include <string_view>
 #include <vector>
 
-namespace semfuse::tools {
+#include "semfuse/core/json_text.hpp"
 
-std::string jsonString(std::string_view text);
+namespace semfuse::tools {
 
 // Builds one JSON value by hand: obj.field("a", 1).field("b", "x").
 class JsonObject {
