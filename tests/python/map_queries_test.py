@@ -84,6 +84,26 @@ def test_objects_are_the_two_labeled_halves(wall) -> None:
     assert table.centroid[2] == pytest.approx(WALL_Z, abs=0.02)
     assert table.centroid.shape == (3,) and table.bbox_min.dtype == np.float64
     assert [o.label for o in client.objects(label=BOX, min_voxels=100)] == [BOX]
+    # The table half's surface, as the region query measures it.
+    surface = client.region(table.bbox_min - VOXEL, table.bbox_max + VOXEL).histogram
+    assert table.area_m2 == pytest.approx(next(a.area_m2 for a in surface if a.label == TABLE), rel=0.1)
+    # A flat rectangle on axis-aligned edges: its oriented box is its bounding box.
+    rotation = table.box_rotation
+    assert rotation.shape == (3, 3)
+    np.testing.assert_allclose(rotation @ rotation.T, np.eye(3), atol=1e-6)
+    assert np.linalg.det(rotation) == pytest.approx(1.0, abs=1e-6)
+    np.testing.assert_allclose(table.box_center, (table.bbox_min + table.bbox_max) / 2, atol=2 * VOXEL)
+    np.testing.assert_allclose(sorted(table.box_half_extents), sorted((table.bbox_max - table.bbox_min) / 2),
+                               atol=2 * VOXEL)
+    assert not table.fragment and not box.fragment
+    # Filters: near a point of the box half, and with the fragments.
+    near_box = client.objects(near=[0.5, 0.0, WALL_Z], radius=0.1)
+    assert [o.label for o in near_box] == [BOX]
+    with_fragments = client.objects(include_fragments=True)
+    assert {o.id for o in objects} <= {o.id for o in with_fragments}
+    assert all(o.fragment for o in with_fragments if o.id not in {p.id for p in client.objects()})
+    with pytest.raises(ValueError, match="radius"):
+        client.objects(near=[0.0, 0.0, WALL_Z])
 
 
 def test_object_events_tell_which_objects_appeared(wall) -> None:

@@ -287,6 +287,17 @@ class ObjectInstance:
     def voxel_count(self) -> int: ...
     @property
     def mean_confidence(self) -> float: ...
+    @property
+    def area_m2(self) -> float: ...
+    @property
+    def box_center(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def box_half_extents(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def box_rotation(self) -> npt.NDArray[np.float64]:
+        """(3, 3) rotation from the box's axes to the world: its columns are the axes."""
+    @property
+    def fragment(self) -> bool: ...
 
 class ObjectEvent:
     """One change of the map's objects."""
@@ -439,8 +450,11 @@ class MapClient:
         """The voxels at (N, 3) world points."""
     def region(self, box_min: ArrayLike, box_max: ArrayLike, timeout: float | None = None) -> RegionSummary:
         """Label surface areas and occupancy inside the box."""
-    def objects(self, label: int = 0, min_voxels: int = 0, timeout: float | None = None) -> list[ObjectInstance]:
-        """Connected labeled surfaces of `label` (0: every label) with at least `min_voxels` voxels."""
+    def objects(self, label: int = 0, min_voxels: int = 0, near: ArrayLike | None = None, radius: float = 0.0,
+                include_fragments: bool = False, timeout: float | None = None) -> list[ObjectInstance]:
+        """Connected labeled surfaces of `label` (0: every label) with at least `min_voxels` voxels; with
+        `near`, only those within `radius` metres of that point; `include_fragments` adds the pieces too
+        small to be objects."""
     def mesh(self, box_min: ArrayLike | None = None, box_max: ArrayLike | None = None,
              timeout: float | None = None) -> Mesh:
         """The labeled mesh of the map (or of the box); the timeout applies to each chunk."""

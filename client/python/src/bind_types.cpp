@@ -276,6 +276,25 @@ void bindQueryResults(py::module_& m) {
           "centroid", [](const ObjectInstance& o) { return vectorToArray(o.centroid); }, "World frame, metres.")
       .def_readonly("voxel_count", &ObjectInstance::voxel_count)
       .def_readonly("mean_confidence", &ObjectInstance::mean_confidence)
+      .def_readonly("area_m2", &ObjectInstance::area_m2, "Of its surface.")
+      .def_property_readonly(
+          "box_center", [](const ObjectInstance& o) { return vectorToArray(o.box_center); },
+          "The oriented box's centre, world frame, metres.")
+      .def_property_readonly(
+          "box_half_extents", [](const ObjectInstance& o) { return vectorToArray(o.box_half_extents); },
+          "Half the oriented box's size along each of its axes, metres.")
+      .def_property_readonly(
+          "box_rotation",
+          [](const ObjectInstance& o) {
+            const Eigen::Matrix3d r = o.box_rotation.normalized().toRotationMatrix();
+            std::vector<double> rows(9);
+            for (int i = 0; i < 3; ++i)
+              for (int j = 0; j < 3; ++j) rows[static_cast<std::size_t>(3 * i + j)] = r(i, j);
+            return vectorToArray(std::move(rows), {3, 3});
+          },
+          "(3, 3) rotation from the box's axes to the world: its columns are the axes. The box is upright "
+          "around the up axis when the server knows it, else along the surface's principal axes.")
+      .def_readonly("fragment", &ObjectInstance::fragment, "A piece too small to be an object.")
       .def("__repr__", [](const ObjectInstance& o) {
         return "semfuse.ObjectInstance(id=" + std::to_string(o.id) + ", label=" + std::to_string(o.label) +
                ", voxel_count=" + std::to_string(o.voxel_count) + ")";

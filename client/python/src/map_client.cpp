@@ -5,6 +5,7 @@
 #include <pybind11/stl.h>
 
 #include <atomic>
+#include <cmath>
 #include <deque>
 
 #include "arrays.hpp"
@@ -172,10 +173,19 @@ class MapClient {
     return run([&](client::MapClient& c) { return c.region(box, t); });
   }
 
-  std::vector<client::ObjectInstance> objects(LabelId label, uint32_t min_voxels,
-                                              const std::optional<double>& timeout) {
+  std::vector<client::ObjectInstance> objects(LabelId label, uint32_t min_voxels, const py::object& near, double radius,
+                                              bool include_fragments, const std::optional<double>& timeout) {
+    client::ObjectsRequest request;
+    request.label = label;
+    request.min_voxels = min_voxels;
+    request.include_fragments = include_fragments;
+    if (!near.is_none()) {
+      if (!(radius > 0.0) || !std::isfinite(radius)) throw py::value_error("radius must be positive with near");
+      request.near = pointFromArray(near, "near");
+      request.radius = radius;
+    }
     const auto t = timeoutOr(timeout);
-    return run([&](client::MapClient& c) { return c.objects(label, min_voxels, t); });
+    return run([&](client::MapClient& c) { return c.objects(request, t); });
   }
 
   Mesh mesh(const py::object& box_min, const py::object& box_max, const std::optional<double>& timeout) {
@@ -355,8 +365,12 @@ The voxels at (N, 3) world points: a dict of (N,) arrays ``observed`` (bool), ``
       .def("region", &MapClient::region, py::arg("box_min"), py::arg("box_max"), py::arg("timeout") = py::none(),
            "Label surface areas and occupancy inside the box [box_min, box_max] (world frame, metres).")
       .def("objects", &MapClient::objects, py::arg("label") = 0, py::arg("min_voxels") = 0,
-           py::arg("timeout") = py::none(),
-           "Connected labeled surfaces of `label` (0: of every label) with at least `min_voxels` voxels.")
+           py::arg("near") = py::none(), py::arg("radius") = 0.0, py::arg("include_fragments") = false,
+           py::arg("timeout") = py::none(), R"doc(
+Connected labeled surfaces of `label` (0: of every label) with at least `min_voxels` voxels; with
+`near` (a world point) only those whose surface comes within `radius` metres of it; with
+`include_fragments` also the pieces too small to be objects.
+)doc")
       .def("mesh", &MapClient::mesh, py::arg("box_min") = py::none(), py::arg("box_max") = py::none(),
            py::arg("timeout") = py::none(),
            "The labeled mesh of the map (or of the box): arrays and the PLY. The timeout applies to each chunk.")
