@@ -14,30 +14,26 @@ std::vector<Segmentation> PendingSegmentations::add(Segmentation segmentation, C
   return evicted;
 }
 
-std::vector<Segmentation> PendingSegmentations::takeFor(const std::string& camera_id, uint64_t seq) {
-  std::vector<Segmentation> matched;
+template <class Matches>
+std::vector<Segmentation> PendingSegmentations::takeIf(Matches matches) {
+  std::vector<Segmentation> taken;
   for (auto it = waiting_.begin(); it != waiting_.end();) {
-    if (it->segmentation.camera_id == camera_id && it->segmentation.frame_seq == seq) {
-      matched.push_back(std::move(it->segmentation));
+    if (matches(it->segmentation)) {
+      taken.push_back(std::move(it->segmentation));
       it = waiting_.erase(it);
     } else {
       ++it;
     }
   }
-  return matched;
+  return taken;
+}
+
+std::vector<Segmentation> PendingSegmentations::takeFor(const std::string& camera_id, uint64_t seq) {
+  return takeIf([&](const Segmentation& s) { return s.camera_id == camera_id && s.frame_seq == seq; });
 }
 
 std::vector<Segmentation> PendingSegmentations::takeBefore(const std::string& camera_id, uint64_t seq) {
-  std::vector<Segmentation> orphaned;
-  for (auto it = waiting_.begin(); it != waiting_.end();) {
-    if (it->segmentation.camera_id == camera_id && it->segmentation.frame_seq < seq) {
-      orphaned.push_back(std::move(it->segmentation));
-      it = waiting_.erase(it);
-    } else {
-      ++it;
-    }
-  }
-  return orphaned;
+  return takeIf([&](const Segmentation& s) { return s.camera_id == camera_id && s.frame_seq < seq; });
 }
 
 std::vector<Segmentation> PendingSegmentations::expire(Clock::time_point now) {

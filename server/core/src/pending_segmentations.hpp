@@ -34,6 +34,10 @@ class PendingSegmentations {
   void clear() { waiting_.clear(); }
 
  private:
+  // Removes and returns, in arrival order, those for which `matches(segmentation)` holds.
+  template <class Matches>
+  std::vector<Segmentation> takeIf(Matches matches);
+
   struct Waiting {
     Segmentation segmentation;
     Clock::time_point arrived;

@@ -19,11 +19,16 @@ std::vector<std::pair<const WriterFirstMutex*, int>>& sharedHolds() {
   return holds;
 }
 
+// The calling thread's hold of `mutex`, or the end of its holds when it holds none.
+auto findHold(const WriterFirstMutex* mutex) {
+  auto& holds = sharedHolds();
+  return std::find_if(holds.begin(), holds.end(), [mutex](const auto& hold) { return hold.first == mutex; });
+}
+
 // The calling thread's count for `mutex`, or null when it holds none.
 int* heldShared(const WriterFirstMutex* mutex) {
-  auto& holds = sharedHolds();
-  const auto it = std::find_if(holds.begin(), holds.end(), [mutex](const auto& hold) { return hold.first == mutex; });
-  return it == holds.end() ? nullptr : &it->second;
+  const auto it = findHold(mutex);
+  return it == sharedHolds().end() ? nullptr : &it->second;
 }
 
 }  // namespace
@@ -71,11 +76,10 @@ bool WriterFirstMutex::try_lock_shared() {
 }
 
 void WriterFirstMutex::unlock_shared() {
-  auto& holds = sharedHolds();
-  const auto it = std::find_if(holds.begin(), holds.end(), [this](const auto& hold) { return hold.first == this; });
-  if (it == holds.end()) return;  // not held by this thread: nothing of ours to release
+  const auto it = findHold(this);
+  if (it == sharedHolds().end()) return;  // not held by this thread: nothing of ours to release
   if (--it->second > 0) return;
-  holds.erase(it);
+  sharedHolds().erase(it);
   pthread_rwlock_unlock(&lock_);
 }
 
