@@ -16,29 +16,6 @@
 namespace semfuse::esdf::testing {
 namespace {
 
-double analyticDistance(const synthetic::LabeledScene& scene, const Eigen::Vector3d& p) {
-  return scene.nearestSurface(p).signed_distance;
-}
-
-// The nearest point of the true surface, by the analytic field's gradient.
-Eigen::Vector3d nearestTruePoint(const synthetic::LabeledScene& scene, const Eigen::Vector3d& p) {
-  const double e = 0.25 * kVoxel;
-  Eigen::Vector3d g;
-  for (int a = 0; a < 3; ++a) {
-    Eigen::Vector3d step = Eigen::Vector3d::Zero();
-    step[a] = e;
-    g[a] = (analyticDistance(scene, p + step) - analyticDistance(scene, p - step)) / (2 * e);
-  }
-  if (g.norm() < 1e-9) return p;
-  return p - g.normalized() * analyticDistance(scene, p);
-}
-
-// The camera saw the surface there: the TSDF voxel nearest the point is observed near zero.
-bool surfaceObserved(const volume::LabeledVolume& volume, const Eigen::Vector3d& q) {
-  const volume::VoxelValue v = volume.voxelAt(q);
-  return v.observed() && std::abs(v.tsdf) < 1.5 * kVoxel;
-}
-
 // Structures thinner than two voxels (the chairs' and the table's legs, 4-6 cm across at 5 cm
 // voxels) leave no zero crossing in the TSDF: nothing at this resolution can measure distances
 // to them.

@@ -1,6 +1,7 @@
 #pragma once
-// What the distance field's accuracy tests compare against: the surface the field is built from
-// (the TSDF's zero crossings at the map's resolution) and percentiles of the errors.
+// What the distance field's accuracy tests compare against: the room's analytic geometry, the
+// surface the field is built from (the TSDF's zero crossings at the map's resolution) and
+// percentiles of the errors.
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -20,6 +21,29 @@ struct Errors {
     return values[std::min(values.size() - 1, static_cast<std::size_t>(p / 100.0 * values.size()))];
   }
 };
+
+inline double analyticDistance(const synthetic::LabeledScene& scene, const Eigen::Vector3d& p) {
+  return scene.nearestSurface(p).signed_distance;
+}
+
+// The nearest point of the true surface, by the analytic field's gradient.
+inline Eigen::Vector3d nearestTruePoint(const synthetic::LabeledScene& scene, const Eigen::Vector3d& p) {
+  const double e = 0.25 * kVoxel;
+  Eigen::Vector3d g;
+  for (int a = 0; a < 3; ++a) {
+    Eigen::Vector3d step = Eigen::Vector3d::Zero();
+    step[a] = e;
+    g[a] = (analyticDistance(scene, p + step) - analyticDistance(scene, p - step)) / (2 * e);
+  }
+  if (g.norm() < 1e-9) return p;
+  return p - g.normalized() * analyticDistance(scene, p);
+}
+
+// The camera saw the surface there: the TSDF voxel nearest the point is observed near zero.
+inline bool surfaceObserved(const volume::LabeledVolume& volume, const Eigen::Vector3d& q) {
+  const volume::VoxelValue v = volume.voxelAt(q);
+  return v.observed() && std::abs(v.tsdf) < 1.5 * kVoxel;
+}
 
 // Every zero crossing of the TSDF (between 6-neighbours observed on both sides), linearly
 // interpolated: the surface the field is built from.
