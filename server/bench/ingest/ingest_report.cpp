@@ -162,10 +162,13 @@ void printResults(const std::vector<RunResult>& runs, const IngestOptions& optio
       "2 cores");
   m.print();
 
-  std::printf("\nserver threads, CPU %% during each run (top 5; 100 %% = 1 core):\n");
+  std::printf("\nserver threads by name, CPU %% during each run (from 0.5 %%; 100 %% = 1 core; x N: N threads):\n");
   for (const auto& run : runs) {
     std::string line;
-    for (const auto& [name, pct] : run.top_threads) line += "  " + name + " " + formatNumber(pct, 0) + "%";
+    for (const ThreadCpuShare& t : run.server_threads)
+      if (t.percent >= 0.5)
+        line += "  " + t.name + (t.threads > 1 ? " x" + std::to_string(t.threads) : "") + " " +
+                formatNumber(t.percent, 0) + "%";
     std::printf("  %-22s%s\n", run.title.c_str(), line.c_str());
   }
   if (idle_raycast && idle_raycast->raycast_ms.count())

@@ -9,6 +9,7 @@
 #include "ingest_options.hpp"
 #include "pose_collector.hpp"
 #include "preloaded_frames.hpp"
+#include "process_stats.hpp"
 #include "semfuse/client/server_status.hpp"
 
 namespace semfuse::bench::ingest {
@@ -23,7 +24,7 @@ struct RunResult {
   client::ServerStatus before, after;
   std::vector<PoseRecord> poses;
   double cpu_percent = 0, rss_peak_mib = 0;
-  std::vector<std::pair<std::string, double>> top_threads;  // name (tid), CPU %
+  std::vector<ThreadCpuShare> server_threads;  // by name, busiest first
   double load_start = 0, load_end = 0;
   Timings raycast_ms;
   std::size_t raycast_failures = 0;

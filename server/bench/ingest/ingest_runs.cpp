@@ -126,14 +126,7 @@ Result<RunResult> IngestRuns::runOnce(pid_t pid, RssMonitor& rss, int cameras, d
   // CPU over the publishing window (the drain below adds at most a few queued frames).
   const double window_s = wallMs(cpu_start.when, cpu_end.when) / 1e3;
   run.cpu_percent = (cpu_end.process_s - cpu_start.process_s) / window_s * 100.0;
-  for (const auto& [tid, thread] : cpu_end.threads) {
-    const auto was = cpu_start.threads.find(tid);
-    const double used = thread.seconds - (was == cpu_start.threads.end() ? 0.0 : was->second.seconds);
-    run.top_threads.emplace_back(thread.name + "(" + std::to_string(tid) + ")", used / window_s * 100.0);
-  }
-  std::sort(run.top_threads.begin(), run.top_threads.end(),
-            [](const auto& a, const auto& b) { return a.second > b.second; });
-  run.top_threads.resize(std::min<std::size_t>(run.top_threads.size(), 5));
+  run.server_threads = threadShares(cpu_start, cpu_end, window_s);
 
   for (const auto& r : results) {
     run.sent += r.sent;

@@ -1,5 +1,7 @@
 #include "process_stats.hpp"
 
+#include <algorithm>
+
 #include <unistd.h>
 
 #include <filesystem>
@@ -62,6 +64,22 @@ void RssMonitor::loop() {
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
+}
+
+std::vector<ThreadCpuShare> threadShares(const CpuSample& start, const CpuSample& end, double window_s) {
+  std::map<std::string, ThreadCpuShare> by_name;
+  for (const auto& [tid, thread] : end.threads) {
+    const auto was = start.threads.find(tid);
+    const double used = thread.seconds - (was == start.threads.end() ? 0.0 : was->second.seconds);
+    ThreadCpuShare& share = by_name[thread.name];
+    share.name = thread.name;
+    ++share.threads;
+    share.percent += used / window_s * 100.0;
+  }
+  std::vector<ThreadCpuShare> shares;
+  for (auto& [name, share] : by_name) shares.push_back(std::move(share));
+  std::sort(shares.begin(), shares.end(), [](const auto& a, const auto& b) { return a.percent > b.percent; });
+  return shares;
 }
 
 }  // namespace semfuse::bench::ingest

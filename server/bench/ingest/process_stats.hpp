@@ -7,6 +7,7 @@
 #include <map>
 #include <string>
 #include <thread>
+#include <vector>
 
 namespace semfuse::bench::ingest {
 
@@ -22,6 +23,15 @@ struct CpuSample {
 };
 
 CpuSample sampleCpu(pid_t pid);
+
+// The CPU of the threads of one name between two samples (a TBB pool's workers share a name).
+struct ThreadCpuShare {
+  std::string name;
+  int threads = 0;     // threads of this name
+  double percent = 0;  // 100 % = 1 core, summed over them
+};
+// Busiest first.
+std::vector<ThreadCpuShare> threadShares(const CpuSample& start, const CpuSample& end, double window_s);
 
 // A field of /proc/<pid>/status in MiB ("VmRSS:", "VmHWM:"), 0 when unreadable.
 double procStatusMiB(pid_t pid, const std::string& field);

@@ -8,6 +8,7 @@
 #include "bench_support.hpp"
 #include "ingest/camera_stream.hpp"
 #include "ingest/pose_collector.hpp"
+#include "ingest/process_stats.hpp"
 #include "query_loop.hpp"
 #include "raycast_baseline.hpp"
 #include "rss_timeline.hpp"
@@ -23,12 +24,6 @@ struct CameraRun {
   ingest::CameraResult sent;
 };
 
-struct ThreadCpuShare {
-  std::string name;
-  int threads = 0;     // threads of this name
-  double percent = 0;  // 100 % = 1 core, summed over them
-};
-
 struct LoadResult {
   double duration_s = 0;
   std::vector<CameraRun> cameras;
@@ -41,7 +36,7 @@ struct LoadResult {
   client::MapFollowerStats follower;
   std::vector<QueryStats> queries;
   double server_cpu_percent = 0, bench_cpu_percent = 0;
-  std::vector<ThreadCpuShare> server_threads;  // busiest first
+  std::vector<ingest::ThreadCpuShare> server_threads;  // busiest first
   RssSummary rss;
   double load_start = 0, load_end = 0;  // 1-minute load average
   RaycastBaseline idle;

@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <map>
 #include <string>
 #include <thread>
 #include <utility>
@@ -61,23 +60,6 @@ std::vector<Eigen::Vector3d> pointsInView(const Pose& camera_to_world) {
     for (int col = 0; col < 20; ++col)
       points.push_back(camera_to_world * Eigen::Vector3d(-0.5 + col * 0.05, -0.25 + row * 0.05, 1.5));
   return points;
-}
-
-std::vector<ThreadCpuShare> threadShares(const ingest::CpuSample& start, const ingest::CpuSample& end,
-                                         double window_s) {
-  std::map<std::string, ThreadCpuShare> by_name;
-  for (const auto& [tid, thread] : end.threads) {
-    const auto was = start.threads.find(tid);
-    const double used = thread.seconds - (was == start.threads.end() ? 0.0 : was->second.seconds);
-    ThreadCpuShare& share = by_name[thread.name];
-    share.name = thread.name;
-    ++share.threads;
-    share.percent += used / window_s * 100.0;
-  }
-  std::vector<ThreadCpuShare> shares;
-  for (auto& [name, share] : by_name) shares.push_back(std::move(share));
-  std::sort(shares.begin(), shares.end(), [](const auto& a, const auto& b) { return a.percent > b.percent; });
-  return shares;
 }
 
 }  // namespace
@@ -209,7 +191,7 @@ Result<LoadResult> LoadRun::run(pid_t pid) {
   const double window_s = std::chrono::duration<double>(cpu_end.when - cpu_start.when).count();
   result.server_cpu_percent = (cpu_end.process_s - cpu_start.process_s) / window_s * 100.0;
   result.bench_cpu_percent = (bench_cpu_end.process_s - bench_cpu_start.process_s) / window_s * 100.0;
-  result.server_threads = threadShares(cpu_start, cpu_end, window_s);
+  result.server_threads = ingest::threadShares(cpu_start, cpu_end, window_s);
   for (auto& query : queries) result.queries.push_back(query->stats());
 
   // Segmenters finish the frame in hand and publish it; then the server drains what it holds.
