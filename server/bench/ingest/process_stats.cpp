@@ -1,9 +1,8 @@
 #include "process_stats.hpp"
 
-#include <algorithm>
-
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <optional>
