@@ -26,9 +26,9 @@ using testing::kVoxel;
 // vertex indices.
 class VertexIndex {
  public:
-  explicit VertexIndex(const LabeledMesh& whole) {
+  explicit VertexIndex(const LabeledMesh& whole, double voxel = kVoxel) {
     for (uint32_t i = 0; i < whole.vertices.size(); ++i) {
-      points_.push_back(whole.vertices[i].cast<double>() / kVoxel);
+      points_.push_back(whole.vertices[i].cast<double>() / voxel);
       cells_[cellOf(points_.back())].push_back(i);
     }
   }
@@ -106,6 +106,23 @@ std::vector<openvdb::Coord> allLeaves(const volume::LabeledVolume& volume) {
   std::vector<openvdb::Coord> leaves;
   for (auto leaf = volume.geometryGrid().tree().cbeginLeaf(); leaf; ++leaf) leaves.push_back(leaf->origin());
   return leaves;
+}
+
+// The map seen through the lattice of every `stride`-th voxel: a volume of stride times the voxel
+// whose voxel c holds the map's voxel stride * c. Its whole mesh is what the blocks of that stride
+// must make.
+volume::LabeledVolume sampledCopy(const volume::LabeledVolume& map, int stride) {
+  volume::VolumeParams p = map.params();
+  p.voxel_size *= stride;
+  volume::LabeledVolume sampled(p);
+  auto& tree = sampled.mutableGeometryGrid().tree();
+  for (auto leaf = map.geometryGrid().tree().cbeginLeaf(); leaf; ++leaf)
+    for (auto it = leaf->cbeginValueAll(); it; ++it) {
+      const openvdb::Coord c = it.getCoord();
+      if (c.x() % stride != 0 || c.y() % stride != 0 || c.z() % stride != 0) continue;
+      if (*it != volume::kUnobservedVoxel) tree.setValue(openvdb::Coord(c.asVec3i() / stride), *it);
+    }
+  return sampled;
 }
 
 // Edges used by one triangle only, after welding vertices at equal keys: the mesh's open rim.
@@ -239,6 +256,94 @@ TEST_F(BlockMeshTest, RemeshingTheBlocksThatReadAChangedLeafGivesTheChangedMap) 
   EXPECT_NE(whole_before.vertices, whole_after.vertices);  // the change shows
   EXPECT_EQ(got.vertices, expected.vertices);
   EXPECT_EQ(got.triangles, expected.triangles);
+}
+
+// At stride 2 the blocks sample every other voxel: together they make exactly the surface nets of
+// the map sampled so (a 2 cm volume from the 1 cm one), with about a quarter of the vertices.
+TEST_F(BlockMeshTest, BlocksAtStrideTwoAreTheSurfaceOfTheSampledMap) {
+  constexpr int kStride = 2;
+  const volume::LabeledVolume sampled = sampledCopy(*volume_, kStride);
+  const LabeledMesh whole = extractMesh(sampled).value();
+  const LabeledMesh fine = extractMesh(*volume_).value();
+  ASSERT_GT(whole.vertices.size(), 5000u);
+  EXPECT_LT(whole.vertices.size(), fine.vertices.size() / 3);
+
+  const std::vector<BlockMesh> blocks =
+      extractBlockMeshes(*volume_, blocksReadingLeaves(allLeaves(*volume_), kStride), kStride);
+  const VertexIndex index(whole, kVoxel * kStride);
+  const MeshKeys expected = wholeKeys(whole), got = blockKeys(blocks, index);
+  EXPECT_EQ(got.vertices, expected.vertices);
+  EXPECT_EQ(got.triangles, expected.triangles);
+  EXPECT_EQ(boundaryEdges(got.triangles), boundaryEdges(expected.triangles));
+  for (const BlockMesh& block : blocks)
+    for (uint32_t i = 0; i < block.mesh.vertices.size(); ++i) {
+      const int64_t at = index.find(blockPoint(block, i));
+      ASSERT_GE(at, 0);
+      EXPECT_EQ(block.mesh.labels[i], whole.labels[at]);
+    }
+
+  // Still the scene: the sphere's vertices (label 7) lie within a voxel of the 1 cm map of its
+  // surface (centre (0, 0, 0.3), radius 0.25).
+  std::size_t on_sphere = 0;
+  for (const BlockMesh& block : blocks)
+    for (uint32_t i = 0; i < block.own_vertices; ++i) {
+      if (block.mesh.labels[i] != 7) continue;
+      const Eigen::Vector3d p = blockPoint(block, i) * kVoxel * kStride;
+      EXPECT_NEAR((p - Eigen::Vector3d(0, 0, 0.3)).norm(), 0.25, kVoxel) << p.transpose();
+      ++on_sphere;
+    }
+  EXPECT_GT(on_sphere, 1000u);
+}
+
+// After a change, re-meshing blocksReadingLeaves(changed leaves, 2) at stride 2 gives the sampled
+// mesh of the changed map: the coarse blocks that read a leaf are all found.
+TEST_F(BlockMeshTest, RemeshingAtStrideTwoTheBlocksThatReadAChangedLeafGivesTheChangedMap) {
+  constexpr int kStride = 2;
+  volume::LabeledVolume changed = volume_->deepCopy();
+  const std::vector<openvdb::Coord> leaves = allLeaves(changed);
+  const std::vector<BlockMesh> before = extractBlockMeshes(changed, blocksReadingLeaves(leaves, kStride), kStride);
+  std::vector<openvdb::Coord> pushed;
+  for (std::size_t i = 0; i < leaves.size(); i += 7) pushed.push_back(leaves[i]);
+  for (const openvdb::Coord& origin : pushed) {
+    auto* leaf = changed.mutableGeometryGrid().tree().probeLeaf(origin);
+    for (auto it = leaf->beginValueOn(); it; ++it) {
+      const volume::VoxelValue v = volume::unpackVoxel(*it);
+      it.setValue(volume::packVoxel(v.tsdf - 1.5f * static_cast<float>(kVoxel), v.weight, 3, v.score));
+    }
+  }
+  std::map<openvdb::Coord, BlockMesh> blocks;
+  for (const BlockMesh& b : before) blocks[b.origin] = b;
+  for (BlockMesh& b : extractBlockMeshes(changed, blocksReadingLeaves(pushed, kStride), kStride))
+    blocks[b.origin] = std::move(b);
+  std::vector<BlockMesh> merged;
+  for (auto& [origin, b] : blocks) merged.push_back(std::move(b));
+
+  const LabeledMesh whole_before = extractMesh(sampledCopy(*volume_, kStride)).value();
+  const LabeledMesh whole_after = extractMesh(sampledCopy(changed, kStride)).value();
+  EXPECT_NE(whole_before.vertices, whole_after.vertices);
+  const VertexIndex index(whole_after, kVoxel * kStride);
+  const MeshKeys expected = wholeKeys(whole_after), got = blockKeys(merged, index);
+  EXPECT_EQ(got.vertices, expected.vertices);
+  EXPECT_EQ(got.triangles, expected.triangles);
+}
+
+// Against the definition: a block of stride s reads the map's voxels [s b, s b + 9 s] per axis.
+TEST(BlocksReadingLeaves, AtEveryStrideExactlyTheBlocksWhoseVoxelsMeetTheLeaf) {
+  for (int stride = 1; stride <= 8; ++stride)
+    for (int leaf_x = -48; leaf_x <= 48; leaf_x += 8) {
+      const openvdb::Coord leaf(leaf_x, 8, -16);
+      const auto blocks = blocksReadingLeaves({leaf}, stride);
+      std::set<openvdb::Coord> expected;
+      for (int bx = -64; bx <= 64; bx += 8)
+        for (int by = -64; by <= 64; by += 8)
+          for (int bz = -64; bz <= 64; bz += 8) {
+            auto meets = [stride](int b, int l) { return stride * b <= l + 7 && stride * b + 9 * stride >= l; };
+            if (meets(bx, leaf.x()) && meets(by, leaf.y()) && meets(bz, leaf.z())) expected.emplace(bx, by, bz);
+          }
+      EXPECT_EQ(std::set<openvdb::Coord>(blocks.begin(), blocks.end()), expected)
+          << "stride " << stride << " leaf " << leaf;
+      EXPECT_TRUE(std::is_sorted(blocks.begin(), blocks.end()));
+    }
 }
 
 TEST(BlocksReadingLeaves, EachLeafAndTheSevenBelowIt) {

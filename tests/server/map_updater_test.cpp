@@ -114,13 +114,13 @@ std::map<BlockOrigin, std::size_t> storeCounts(const MeshBlockStore& store) {
   return counts;
 }
 
-// Every block of the map meshed from scratch.
-std::map<BlockOrigin, std::size_t> freshCounts(const LockedVolume& map) {
+// Every block of the map meshed from scratch, on the lattice of `stride` map voxels.
+std::map<BlockOrigin, std::size_t> freshCounts(const LockedVolume& map, int stride = 1) {
   std::map<BlockOrigin, std::size_t> counts;
   map.read([&](const volume::LabeledVolume& volume) {
     std::vector<openvdb::Coord> leaves;
     for (auto leaf = volume.geometryGrid().tree().cbeginLeaf(); leaf; ++leaf) leaves.push_back(leaf->origin());
-    for (const auto& mesh : render::extractBlockMeshes(volume, leaves))
+    for (const auto& mesh : render::extractBlockMeshes(volume, render::blocksReadingLeaves(leaves, stride), stride))
       if (!mesh.mesh.vertices.empty())
         counts[{mesh.origin.x(), mesh.origin.y(), mesh.origin.z()}] = mesh.mesh.vertices.size();
   });
@@ -286,6 +286,67 @@ TEST_F(MapUpdaterTest, RoundsSendWhatChangedAndAFollowerEndsWithTheServersMesh) 
   const MapUpdater::Totals totals = updater_.totals();
   EXPECT_EQ(totals.updates, 2u);
   EXPECT_EQ(totals.blocks_sent, first.blocks_sent + second.blocks_sent);
+}
+
+// A live mesh of twice the map's voxel: the header says its voxel, and a follower ends with the
+// blocks of that lattice meshed from scratch, with far fewer vertices than the map's own.
+TEST(MapUpdater, ACoarserLiveMeshFollowsTheMapOnItsOwnLattice) {
+  LockedVolume map;
+  RecordingSink sink;
+  MapUpdateConfig config;
+  config.voxel_size = 0.04;
+  ASSERT_TRUE(validateMapUpdateConfig(config, 0.02, 0.08).ok());
+  ASSERT_EQ(config.stride(0.02, 0.08), 2);
+  MapUpdater updater(map, config, sink);
+  Follower follower;
+  map.see({-1.5, -1.2, 1.4});
+  updater.update();
+  ASSERT_EQ(sink.updates.size(), 1u);
+  EXPECT_EQ(sink.updates[0].header.voxel_size, 0.04);
+  follower.apply(sink.updates[0]);
+  map.see({1.6, 1.3, 1.5});
+  updater.update();
+  ASSERT_EQ(sink.updates.size(), 2u);
+  follower.apply(sink.updates[1]);
+  const auto coarse = freshCounts(map, 2), fine = freshCounts(map, 1);
+  EXPECT_EQ(follower.vertexCounts(), coarse);
+  auto total = [](const std::map<BlockOrigin, std::size_t>& counts) {
+    std::size_t n = 0;
+    for (const auto& [origin, count] : counts) n += count;
+    return n;
+  };
+  EXPECT_GT(total(coarse), 1000u);
+  EXPECT_LT(total(coarse), total(fine) / 3);
+}
+
+// By default the live mesh takes the coarsest whole multiple of the map's voxel up to 2 cm and the
+// truncation; a given voxel must be such a multiple (1 to 8 times) and within the truncation.
+TEST(MapUpdateConfig, TheLiveVoxelIsAWholeMultipleOfTheMapsWithinTheTruncation) {
+  const MapUpdateConfig automatic;
+  EXPECT_EQ(automatic.stride(0.01, 0.04), 2);
+  EXPECT_EQ(automatic.stride(0.005, 0.04), 4);
+  EXPECT_EQ(automatic.stride(0.005, 0.015), 3);  // the truncation bounds it
+  EXPECT_EQ(automatic.stride(0.02, 0.08), 1);
+  EXPECT_EQ(automatic.stride(0.05, 0.2), 1);
+  EXPECT_TRUE(validateMapUpdateConfig(automatic, 0.01, 0.04).ok());
+
+  MapUpdateConfig given;
+  given.voxel_size = 0.01;
+  EXPECT_EQ(given.stride(0.01, 0.04), 1);
+  EXPECT_TRUE(validateMapUpdateConfig(given, 0.01, 0.04).ok());
+  given.voxel_size = 0.03;
+  EXPECT_EQ(given.stride(0.01, 0.04), 3);
+  EXPECT_TRUE(validateMapUpdateConfig(given, 0.01, 0.04).ok());
+  given.voxel_size = 0.015;
+  EXPECT_FALSE(validateMapUpdateConfig(given, 0.01, 0.04).ok());  // not a whole multiple
+  given.voxel_size = 0.005;
+  EXPECT_FALSE(validateMapUpdateConfig(given, 0.01, 0.04).ok());  // finer than the map
+  given.voxel_size = 0.05;
+  const Status wide = validateMapUpdateConfig(given, 0.01, 0.04);
+  ASSERT_FALSE(wide.ok());
+  EXPECT_NE(wide.error().find("truncation"), std::string::npos) << wide.error();
+  given.voxel_size = 0.09;
+  EXPECT_FALSE(validateMapUpdateConfig(given, 0.01, 0.1).ok());  // more than 8 times
 }
 
 TEST_F(MapUpdaterTest, AClearIsSentAndTheNewMapFollows) {

@@ -1,6 +1,32 @@
 #include "map_update_config.hpp"
 
+#include <algorithm>
+#include <cmath>
+#include <string>
+
 namespace semfuse::server {
+
+int MapUpdateConfig::stride(double map_voxel, double truncation) const {
+  if (!(map_voxel > 0.0)) return 1;
+  const double ratio = voxel_size > 0.0 ? std::round(voxel_size / map_voxel)
+                                        : std::floor(std::min(kAutoLiveVoxel, truncation) / map_voxel * (1.0 + 1e-9));
+  return static_cast<int>(std::clamp(ratio, 1.0, static_cast<double>(kMaxStride)));
+}
+
+Status validateMapUpdateConfig(const MapUpdateConfig& c, double map_voxel, double truncation) {
+  if (c.voxel_size == 0.0) return Status::Ok();
+  const double ratio = c.voxel_size / map_voxel;
+  if (!std::isfinite(ratio) || std::abs(ratio - std::round(ratio)) > 1e-6 * ratio || ratio < 1.0 - 1e-6 ||
+      std::round(ratio) > MapUpdateConfig::kMaxStride)
+    return makeError(ErrorCode::kInvalidArgument, "--map-updates.voxel-size " + std::to_string(c.voxel_size) +
+                                                      " m is not 1 to " + std::to_string(MapUpdateConfig::kMaxStride) +
+                                                      " times the map's voxel " + std::to_string(map_voxel) + " m");
+  if (std::round(ratio) > 1.0 && c.voxel_size > truncation * (1.0 + 1e-6))
+    return makeError(ErrorCode::kInvalidArgument, "--map-updates.voxel-size " + std::to_string(c.voxel_size) +
+                                                      " m is larger than the truncation " + std::to_string(truncation) +
+                                                      " m: surfaces could fall between its samples of the map");
+  return Status::Ok();
+}
 
 void addMapUpdateOptions(CLI::App& app, MapUpdateConfig& c) {
   auto* group = "Live mesh (rt/semfuse/map_updates, map_blocks, ROS 2 markers and cloud)";
@@ -29,6 +55,12 @@ void addMapUpdateOptions(CLI::App& app, MapUpdateConfig& c) {
       ->capture_default_str();
   app.add_option("--map-updates.cloud-period", c.cloud_period_s,
                  "seconds between point clouds of the surface on rt/semfuse/map_cloud (0 = none)")
+      ->group(group)
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app.add_option("--map-updates.voxel-size", c.voxel_size,
+                 "the live mesh's voxel edge, metres: a whole multiple of --voxel-size, at most --truncation (0 = the "
+                 "coarsest such up to 2 cm); the mesh service keeps the map's own")
       ->group(group)
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();

@@ -7,6 +7,8 @@
 
 #include <CLI/App.hpp>
 
+#include "semfuse/core/result.hpp"
+
 namespace semfuse::server {
 
 struct MapUpdateConfig {
@@ -20,9 +22,23 @@ struct MapUpdateConfig {
   double idle_after_s = 10.0;
   double cloud_period_s = 2.0;          // rt/semfuse/map_cloud at most this often (0 = never)
   std::string marker_colors = "label";  // markers and cloud coloured by "label" or "rgb"
+  // The live mesh's voxel edge, metres: a whole multiple of the map's (0 = the coarsest such up to
+  // kAutoLiveVoxel and the truncation). A live view needs no finer surface than a screen shows,
+  // and each doubling cuts the meshing work about four times; the mesh service stays at the
+  // map's own resolution.
+  double voxel_size = 0.0;
+  static constexpr double kAutoLiveVoxel = 0.02;
+  static constexpr int kMaxStride = 8;
+
+  // Map voxels per live mesh voxel, for a map of this voxel size and truncation.
+  int stride(double map_voxel, double truncation) const;
 };
 
 // Declares --map-updates.* on `app`.
 void addMapUpdateOptions(CLI::App& app, MapUpdateConfig& config);
+
+// Refuses a live mesh voxel that is not a whole multiple of the map's (1 to kMaxStride times), or
+// wider than the truncation, where surfaces could fall between its samples.
+Status validateMapUpdateConfig(const MapUpdateConfig& config, double map_voxel, double truncation);
 
 }  // namespace semfuse::server

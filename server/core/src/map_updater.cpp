@@ -112,21 +112,20 @@ MapUpdater::Round MapUpdater::update() {
   volume::LabeledVolume::LeafChanges changes;
   uint64_t frames = 0;
   double voxel_size = 0.0;
+  int stride = 1;
   map_.read([&](const volume::LabeledVolume& volume) {
     changes = volume.changesSince(before.revision);
     frames = volume.framesIntegrated();
-    voxel_size = volume.voxelSize();
+    stride = config_.stride(volume.voxelSize(), volume.params().truncation);
+    voxel_size = volume.voxelSize() * stride;
   });
 
-  // A clear or a replacing map: every block starts over. Every block with surface has a leaf
-  // of its own, so the changed leaves are the blocks.
+  // A clear or a replacing map: every block starts over. At the map's own resolution every block
+  // with surface has a leaf of its own, so the changed leaves are the blocks.
   std::vector<openvdb::Coord> blocks;
-  if (changes.all) {
-    store_.clear(changes.revision);
-    blocks = std::move(changes.leaves);
-  } else {
-    blocks = render::blocksReadingLeaves(changes.leaves);
-  }
+  if (changes.all) store_.clear(changes.revision);
+  if (changes.all && stride == 1) blocks = std::move(changes.leaves);
+  else blocks = render::blocksReadingLeaves(changes.leaves, stride);
 
   std::vector<MeshBlock> changed;
   const std::size_t batch = std::max<std::size_t>(1, config_.batch_blocks);
@@ -138,7 +137,7 @@ MapUpdater::Round MapUpdater::update() {
     uint64_t meshed_at = 0;
     const auto locked = Clock::now();
     map_.read([&](const volume::LabeledVolume& volume) {
-      meshes = render::extractBlockMeshes(volume, origins);
+      meshes = render::extractBlockMeshes(volume, origins, stride);
       meshed_at = volume.revision();
     });
     round.locked_ms += msSince(locked);

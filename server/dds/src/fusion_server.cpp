@@ -94,6 +94,9 @@ FusionServer::FusionServer(ServerConfig config)
   ingest_ = std::make_unique<Ingest>(participant_, frames_, *fusion_, state_, legend_);
   if (config_.ros.enabled) ros_ingest_ = std::make_unique<RosIngest>(participant_, config_.ros, frames_, state_);
   if (config_.map_updates.rate_hz > 0) {
+    if (Status ok = validateMapUpdateConfig(config_.map_updates, config_.volume.voxel_size, config_.volume.truncation);
+        !ok)
+      throw std::runtime_error(ok.error());
     map_access_ = std::make_unique<MapperAccess>(*mapper_);
     try {
       map_updates_ = std::make_unique<MapUpdatePublisher>(participant_, *map_access_, config_.map_updates, legend_,

@@ -1,8 +1,14 @@
 #pragma once
-// The voxels a mesh block reads, in place: [0, 10)^3 from the block's origin, which is its own
-// leaf and two layers of the seven leaves above it (+x, +y, +z and their combinations). Colour
+// The voxels a mesh block reads: [0, 10)^3 from the block's origin, which is its own leaf and two
+// layers of the seven leaves above it (+x, +y, +z and their combinations). At stride 1 they are
+// read in place; at a stride s > 1 the block is one of a coarser lattice, its voxel (x, y, z) the
+// map's voxel s * (x, y, z) from the block's origin, copied out of the map's leaves. Colour
 // leaves are looked up separately, so that a block found to have no surface never probes them.
 // Internal to the block mesher (mesh_blocks.cpp).
+#include <algorithm>
+#include <array>
+#include <memory>
+
 #include <openvdb/openvdb.h>
 
 #include "mesh_cells.hpp"
@@ -11,16 +17,33 @@
 namespace semfuse::render::detail {
 
 inline constexpr int kBlockSpan = kLeafDim + 2;  // voxels per side a block reads
+inline constexpr int kLeafVoxels = kLeafDim * kLeafDim * kLeafDim;
+inline constexpr int kMaxBlockStride = 8;  // the sampled lattice's largest stride
 
 class BlockVoxels {
  public:
-  // False when the block's own leaf is not allocated: then none of its cells is observed.
+  // `stride` map voxels per block voxel (1: the map's own lattice).
+  explicit BlockVoxels(int stride = 1) : stride_(std::clamp(stride, 1, kMaxBlockStride)) {
+    if (stride_ > 1) {
+      sampled_ = std::make_unique<Sampled>();
+      sampled_->voxels.fill(volume::kUnobservedVoxel);
+      sampled_->colors.fill(0);
+    }
+  }
+
+  // The block whose voxel (0, 0, 0) is the map's voxel `origin` (a multiple of 8 * stride).
+  // False when none of the map's leaves under the block's own voxels is allocated: then none of
+  // its cells is observed.
   bool gather(const volume::GeometryGrid::ConstUnsafeAccessor& geometry, const openvdb::Coord& origin) {
-    gatherLeaves(geometry, origin, voxels_);
-    return voxels_[0][0][0] != nullptr;
+    if (stride_ == 1) {
+      gatherLeaves(geometry, origin, voxels_);
+      return voxels_[0][0][0] != nullptr;
+    }
+    return sample(geometry, origin, sampled_->voxels, voxels_);
   }
   void gatherColors(const volume::ColorGrid::ConstUnsafeAccessor& colors, const openvdb::Coord& origin) {
-    gatherLeaves(colors, origin, colors_);
+    if (stride_ == 1) gatherLeaves(colors, origin, colors_);
+    else sample(colors, origin, sampled_->colors, colors_);
   }
 
   // 0 <= x, y, z < kBlockSpan; unallocated leaves read as unobserved, uncoloured ones as black.
@@ -51,6 +74,46 @@ class BlockVoxels {
         }
   }
 
+  // Copies the map's voxels origin + stride * (x, y, z), 0 <= x, y, z < kBlockSpan, into `buffers`
+  // (2 x 2 x 2 leaves of the block's lattice, the rest of which stays as constructed) and points
+  // `out` at them. Each of the map's leaves under the block is probed once.
+  template <class Accessor, class Value>
+  bool sample(const Accessor& grid, const openvdb::Coord& origin, std::array<Value, 8 * kLeafVoxels>& buffers,
+              const Value* (&out)[2][2][2]) const {
+    constexpr int kMaxLeaves = (kBlockSpan - 1) * kMaxBlockStride / kLeafDim + 1;  // per axis
+    const int leaves = (kBlockSpan - 1) * stride_ / kLeafDim + 1;
+    const Value* leaf[kMaxLeaves][kMaxLeaves][kMaxLeaves] = {};
+    bool own = false;
+    const int own_leaves = ((kLeafDim - 1) * stride_) / kLeafDim + 1;  // under the block's own voxels
+    for (int a = 0; a < leaves; ++a)
+      for (int b = 0; b < leaves; ++b)
+        for (int c = 0; c < leaves; ++c) {
+          const auto* node = grid.probeConstLeaf(origin.offsetBy(a * kLeafDim, b * kLeafDim, c * kLeafDim));
+          leaf[a][b][c] = node ? node->buffer().data() : nullptr;
+          own = own || (node != nullptr && a < own_leaves && b < own_leaves && c < own_leaves);
+        }
+    for (int x = 0; x < kBlockSpan; ++x)
+      for (int y = 0; y < kBlockSpan; ++y)
+        for (int z = 0; z < kBlockSpan; ++z) {
+          const int mx = x * stride_, my = y * stride_, mz = z * stride_;
+          const Value* data = leaf[mx >> 3][my >> 3][mz >> 3];
+          const auto at = static_cast<std::size_t>((((x >> 3) * 2 + (y >> 3)) * 2 + (z >> 3)) * kLeafVoxels +
+                                                   leafOffset(x & 7, y & 7, z & 7));
+          buffers[at] = data ? data[leafOffset(mx & 7, my & 7, mz & 7)] : Value{};
+        }
+    for (int a = 0; a < 2; ++a)
+      for (int b = 0; b < 2; ++b)
+        for (int c = 0; c < 2; ++c) out[a][b][c] = buffers.data() + ((a * 2 + b) * 2 + c) * kLeafVoxels;
+    return own;
+  }
+
+  struct Sampled {
+    std::array<volume::PackedVoxel, 8 * kLeafVoxels> voxels;
+    std::array<volume::PackedColor, 8 * kLeafVoxels> colors;
+  };
+
+  int stride_ = 1;
+  std::unique_ptr<Sampled> sampled_;                 // stride > 1: the block's voxels, copied
   const volume::PackedVoxel* voxels_[2][2][2] = {};  // [x / 8][y / 8][z / 8]
   const volume::PackedColor* colors_[2][2][2] = {};
 };

@@ -180,24 +180,43 @@ class BlockMesher {
   std::array<uint8_t, kCells * kCells * kCells> pieces_;      // of surface; set with first_vertex_
 };
 
+// Division rounding towards minus infinity (block and leaf origins may be negative).
+int floorDiv(int a, int b) { return a / b - ((a % b != 0) && ((a < 0) != (b < 0)) ? 1 : 0); }
+int ceilDiv(int a, int b) { return -floorDiv(-a, b); }
+
 }  // namespace
 
-std::vector<openvdb::Coord> blocksReadingLeaves(const std::vector<openvdb::Coord>& leaf_origins) {
+std::vector<openvdb::Coord> blocksReadingLeaves(const std::vector<openvdb::Coord>& leaf_origins, int stride) {
+  stride = std::clamp(stride, 1, detail::kMaxBlockStride);
+  // Along one axis, the block origins b (multiples of 8) whose map voxels [s b, s b + 9 s] meet
+  // the leaf's [l, l + 7]: from ceil((l - 9 s) / s) to floor((l + 7) / s).
+  auto along = [stride](int l, int(&out)[4]) {
+    const int first = floorDiv(ceilDiv(l - (kDim + 1) * stride, stride) + kDim - 1, kDim) * kDim;
+    const int last = floorDiv(floorDiv(l + kDim - 1, stride), kDim) * kDim;
+    int n = 0;
+    for (int b = first; b <= last && n < 4; b += kDim) out[n++] = b;
+    return n;
+  };
   std::vector<openvdb::Coord> blocks;
   blocks.reserve(leaf_origins.size() * 8);
-  for (const openvdb::Coord& leaf : leaf_origins)
-    for (int d = 0; d < 8; ++d)
-      blocks.push_back(leaf.offsetBy(-(d & 1) * kDim, -((d >> 1) & 1) * kDim, -(d >> 2) * kDim));
+  for (const openvdb::Coord& leaf : leaf_origins) {
+    int xs[4], ys[4], zs[4];
+    const int nx = along(leaf.x(), xs), ny = along(leaf.y(), ys), nz = along(leaf.z(), zs);
+    for (int i = 0; i < nx; ++i)
+      for (int j = 0; j < ny; ++j)
+        for (int k = 0; k < nz; ++k) blocks.emplace_back(xs[i], ys[j], zs[k]);
+  }
   std::sort(blocks.begin(), blocks.end());
   blocks.erase(std::unique(blocks.begin(), blocks.end()), blocks.end());
   return blocks;
 }
 
 std::vector<BlockMesh> extractBlockMeshes(const volume::LabeledVolume& volume,
-                                          const std::vector<openvdb::Coord>& origins) {
+                                          const std::vector<openvdb::Coord>& origins, int stride) {
+  stride = std::clamp(stride, 1, detail::kMaxBlockStride);
   std::vector<BlockMesh> blocks(origins.size());
   const bool with_colors = volume.hasColor() && volume.colorGrid() != nullptr;
-  const auto voxel_size = static_cast<float>(volume.voxelSize());
+  const auto voxel_size = static_cast<float>(volume.voxelSize() * stride);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, origins.size(), kBlocksPerTask),
                     [&](const tbb::blocked_range<std::size_t>& range) {
                       // Unregistered accessors: the volume cannot change under the caller's lock,
@@ -205,13 +224,14 @@ std::vector<BlockMesh> extractBlockMeshes(const volume::LabeledVolume& volume,
                       const auto geometry = volume.geometryGrid().getConstUnsafeAccessor();
                       std::optional<volume::ColorGrid::ConstUnsafeAccessor> colors;
                       if (with_colors) colors.emplace(volume.colorGrid()->getConstUnsafeAccessor());
-                      BlockVoxels voxels;
+                      BlockVoxels voxels(stride);
                       for (std::size_t i = range.begin(); i < range.end(); ++i) {
                         blocks[i].origin = origins[i];
-                        if (!voxels.gather(geometry, origins[i])) continue;
+                        const openvdb::Coord in_map(origins[i].asVec3i() * stride);
+                        if (!voxels.gather(geometry, in_map)) continue;
                         const BlockCells cells = detail::classifyBlockCells(voxels);
                         if (!cells.hasOwnSurface()) continue;  // most blocks an update re-meshes
-                        if (colors) voxels.gatherColors(*colors, origins[i]);
+                        if (colors) voxels.gatherColors(*colors, in_map);
                         BlockMesher{voxels, cells, with_colors, voxel_size, blocks[i]};
                       }
                     });

@@ -10,6 +10,12 @@
 // identical vertices. Together the blocks give exactly the triangles of extractMesh's surface
 // nets. A block reads the voxels [origin, origin + 10)^3: its own leaf and two layers of the seven
 // leaves above it.
+//
+// A live view of a fine map can follow a coarser lattice: at stride s, block voxel (x, y, z) is the
+// map's voxel s * (x, y, z), so that a block covers s^3 of the map's leaves and carries about 1/s^2
+// of their vertices (the surface nets of the map's TSDF sampled every s voxels; the truncation
+// band must be wider than s voxels for no surface to fall between samples). Block origins and
+// vertices are then in the lattice's voxels, of s times the map's voxel size.
 #include <cstdint>
 #include <vector>
 
@@ -21,21 +27,23 @@
 namespace semfuse::render {
 
 struct BlockMesh {
-  openvdb::Coord origin;  // the block's lowest voxel: a leaf origin
+  openvdb::Coord origin;  // the block's lowest voxel, in the block lattice (a multiple of 8)
   // Vertices in voxels from `origin` (world = (origin + vertex) * voxel size); the block's own
   // vertices first, then the repeated ones of the blocks above.
   LabeledMesh mesh;
   uint32_t own_vertices = 0;
 };
 
-// The blocks whose mesh reads voxels of these leaves (leaf origins): each leaf's own block and
-// the seven below it (-x, -y, -z and their combinations). Sorted, without repeats.
-std::vector<openvdb::Coord> blocksReadingLeaves(const std::vector<openvdb::Coord>& leaf_origins);
+// The blocks (of the lattice of `stride` map voxels, 1 to 8) whose mesh reads voxels of these map
+// leaves (leaf origins): at stride 1 each leaf's own block and the seven below it (-x, -y, -z and
+// their combinations). Sorted, without repeats.
+std::vector<openvdb::Coord> blocksReadingLeaves(const std::vector<openvdb::Coord>& leaf_origins, int stride = 1);
 
-// The mesh of each block in `origins` (leaf origins), in that order, in parallel. A block whose
-// leaf is not allocated, or without surface, has an empty mesh. Reads the volume only: callers
-// that share the volume with a writer hold its shared lock.
+// The mesh of each block in `origins` (block origins of the lattice of `stride` map voxels), in
+// that order, in parallel. A block with none of the map's leaves under its own voxels allocated,
+// or without surface, has an empty mesh. Reads the volume only: callers that share the volume
+// with a writer hold its shared lock.
 std::vector<BlockMesh> extractBlockMeshes(const volume::LabeledVolume& volume,
-                                          const std::vector<openvdb::Coord>& origins);
+                                          const std::vector<openvdb::Coord>& origins, int stride = 1);
 
 }  // namespace semfuse::render
