@@ -43,8 +43,10 @@ void addMapUpdateOptions(CLI::App& app, MapUpdateConfig& c) {
       ->group(group)
       ->check(CLI::Range(uint32_t{1} << 16, uint32_t{1} << 30))
       ->capture_default_str();
-  app.add_option("--map-updates.batch-blocks", c.batch_blocks,
-                 "blocks meshed per hold of the map's shared lock (the fusion thread waits at most one batch)")
+  app.add_option(
+         "--map-updates.batch-blocks", c.batch_blocks,
+         "blocks copied per hold of the map's shared lock, to be meshed after it (the fusion thread waits at most "
+         "one batch)")
       ->group(group)
       ->check(CLI::Range(1u, 1u << 20))
       ->capture_default_str();

@@ -15,8 +15,9 @@ struct MapUpdateConfig {
   double rate_hz = 2.0;              // update rounds per second; 0 = no live mesh and no map_blocks service
   uint32_t sample_bytes = 4u << 20;  // an update larger than this is published in parts
   uint32_t page_bytes = 4u << 20;    // a map_blocks reply's bound when the request names none
-  // Blocks meshed per hold of the map's shared lock: the fusion thread waits at most for one batch.
-  uint32_t batch_blocks = 256;
+  // Blocks whose voxels are copied per hold of the map's shared lock (they are meshed after it):
+  // the fusion thread waits at most for one batch, and a round waits for the lock once per batch.
+  uint32_t batch_blocks = 2048;
   // With no reader of the updates, markers or cloud and no map_blocks request for this long, the
   // server stops following the map (it costs nothing then) and catches up when one comes.
   double idle_after_s = 10.0;

@@ -133,14 +133,17 @@ MapUpdater::Round MapUpdater::update() {
     const std::vector<openvdb::Coord> origins(
         blocks.begin() + static_cast<std::ptrdiff_t>(first),
         blocks.begin() + static_cast<std::ptrdiff_t>(std::min(first + batch, blocks.size())));
-    std::vector<render::BlockMesh> meshes;
+    // Only the copying of the blocks' voxels holds the map: the meshing, several times slower,
+    // runs beside the fusion thread's next frame.
+    render::GatheredBlocks gathered;
     uint64_t meshed_at = 0;
     const auto locked = Clock::now();
     map_.read([&](const volume::LabeledVolume& volume) {
-      meshes = render::extractBlockMeshes(volume, origins, stride);
+      gathered = render::gatherBlocks(volume, origins, stride);
       meshed_at = volume.revision();
     });
     round.locked_ms += msSince(locked);
+    std::vector<render::BlockMesh> meshes = render::meshGatheredBlocks(gathered);
     std::vector<MeshBlock> encoded;
     encoded.reserve(meshes.size());
     for (render::BlockMesh& mesh : meshes) encoded.push_back(encodeMeshBlock(std::move(mesh), meshed_at));

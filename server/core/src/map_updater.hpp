@@ -4,11 +4,12 @@
 // thread (sf-map-updates) at --map-updates.rate, off the fusion thread's path.
 //
 // A round asks the volume which leaves changed since the revision the store is up to date with
-// (LabeledVolume::changesSince), meshes the blocks that read them (render/mesh_blocks.hpp) in
-// batches under the map's shared lock, keeps the blocks whose mesh differs, and publishes them as
-// one update, in parts when large. The work follows the change, not the map: a block is meshed
-// only when one of the eight leaves it reads was written. After a clear or a load (`all`) the
-// store starts over and every block is meshed.
+// (LabeledVolume::changesSince), copies the voxels of the blocks that read them
+// (render/mesh_blocks.hpp) in batches under the map's shared lock, meshes the copies without it,
+// keeps the blocks whose mesh differs, and publishes them as one update, in parts when large.
+// Blocks are those of the live mesh's lattice (--map-updates.voxel-size). The work follows the change, not the map: a
+// block is meshed only when one of the eight leaves it reads was written. After a clear or a load (`all`) the store
+// starts over and every block is meshed.
 //
 // Nobody listening (no reader of the sink's topics, no map_blocks request for
 // --map-updates.idle-after) costs nothing: rounds are skipped, and the first round after that

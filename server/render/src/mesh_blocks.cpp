@@ -211,12 +211,30 @@ std::vector<openvdb::Coord> blocksReadingLeaves(const std::vector<openvdb::Coord
   return blocks;
 }
 
-std::vector<BlockMesh> extractBlockMeshes(const volume::LabeledVolume& volume,
-                                          const std::vector<openvdb::Coord>& origins, int stride) {
+struct GatheredBlocks::Block {
+  detail::BlockCells cells;
+  detail::BlockVoxelCopy voxels;
+};
+
+GatheredBlocks::GatheredBlocks() = default;
+GatheredBlocks::GatheredBlocks(GatheredBlocks&&) noexcept = default;
+GatheredBlocks& GatheredBlocks::operator=(GatheredBlocks&&) noexcept = default;
+GatheredBlocks::~GatheredBlocks() = default;
+std::size_t GatheredBlocks::size() const { return origins_.size(); }
+std::size_t GatheredBlocks::withSurface() const {
+  return static_cast<std::size_t>(
+      std::count_if(blocks_.begin(), blocks_.end(), [](const auto& block) { return block != nullptr; }));
+}
+
+GatheredBlocks gatherBlocks(const volume::LabeledVolume& volume, const std::vector<openvdb::Coord>& origins,
+                            int stride) {
   stride = std::clamp(stride, 1, detail::kMaxBlockStride);
-  std::vector<BlockMesh> blocks(origins.size());
-  const bool with_colors = volume.hasColor() && volume.colorGrid() != nullptr;
-  const auto voxel_size = static_cast<float>(volume.voxelSize() * stride);
+  GatheredBlocks gathered;
+  gathered.origins_ = origins;
+  gathered.blocks_.resize(origins.size());
+  gathered.with_colors_ = volume.hasColor() && volume.colorGrid() != nullptr;
+  gathered.voxel_size_ = static_cast<float>(volume.voxelSize() * stride);
+  const bool with_colors = gathered.with_colors_;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, origins.size(), kBlocksPerTask),
                     [&](const tbb::blocked_range<std::size_t>& range) {
                       // Unregistered accessors: the volume cannot change under the caller's lock,
@@ -226,16 +244,39 @@ std::vector<BlockMesh> extractBlockMeshes(const volume::LabeledVolume& volume,
                       if (with_colors) colors.emplace(volume.colorGrid()->getConstUnsafeAccessor());
                       BlockVoxels voxels(stride);
                       for (std::size_t i = range.begin(); i < range.end(); ++i) {
-                        blocks[i].origin = origins[i];
                         const openvdb::Coord in_map(origins[i].asVec3i() * stride);
                         if (!voxels.gather(geometry, in_map)) continue;
                         const BlockCells cells = detail::classifyBlockCells(voxels);
                         if (!cells.hasOwnSurface()) continue;  // most blocks an update re-meshes
                         if (colors) voxels.gatherColors(*colors, in_map);
-                        BlockMesher{voxels, cells, with_colors, voxel_size, blocks[i]};
+                        // Not value-initialised: copyTo writes what meshing reads.
+                        std::unique_ptr<GatheredBlocks::Block> block(new GatheredBlocks::Block);
+                        block->cells = cells;
+                        voxels.copyTo(block->voxels, with_colors);
+                        gathered.blocks_[i] = std::move(block);
+                      }
+                    });
+  return gathered;
+}
+
+std::vector<BlockMesh> meshGatheredBlocks(const GatheredBlocks& gathered) {
+  std::vector<BlockMesh> blocks(gathered.origins_.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks.size(), kBlocksPerTask),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t i = range.begin(); i < range.end(); ++i) {
+                        blocks[i].origin = gathered.origins_[i];
+                        const GatheredBlocks::Block* block = gathered.blocks_[i].get();
+                        if (block == nullptr) continue;
+                        const BlockVoxels voxels(block->voxels);
+                        BlockMesher{voxels, block->cells, gathered.with_colors_, gathered.voxel_size_, blocks[i]};
                       }
                     });
   return blocks;
+}
+
+std::vector<BlockMesh> extractBlockMeshes(const volume::LabeledVolume& volume,
+                                          const std::vector<openvdb::Coord>& origins, int stride) {
+  return meshGatheredBlocks(gatherBlocks(volume, origins, stride));
 }
 
 }  // namespace semfuse::render

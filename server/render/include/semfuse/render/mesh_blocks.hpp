@@ -17,6 +17,7 @@
 // band must be wider than s voxels for no surface to fall between samples). Block origins and
 // vertices are then in the lattice's voxels, of s times the map's voxel size.
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include <openvdb/openvdb.h>
@@ -45,5 +46,30 @@ std::vector<openvdb::Coord> blocksReadingLeaves(const std::vector<openvdb::Coord
 // with a writer hold its shared lock.
 std::vector<BlockMesh> extractBlockMeshes(const volume::LabeledVolume& volume,
                                           const std::vector<openvdb::Coord>& origins, int stride = 1);
+
+// The same in two steps, for a caller that shares the map with a writer: gatherBlocks copies out
+// the voxels of the blocks with surface (under the map's shared lock, several times faster than
+// meshing them), meshGatheredBlocks meshes the copies without the map.
+class GatheredBlocks {
+ public:
+  GatheredBlocks();
+  GatheredBlocks(GatheredBlocks&&) noexcept;
+  GatheredBlocks& operator=(GatheredBlocks&&) noexcept;
+  ~GatheredBlocks();
+  std::size_t size() const;         // blocks asked for
+  std::size_t withSurface() const;  // of them, those with surface (copied)
+
+ private:
+  struct Block;
+  friend GatheredBlocks gatherBlocks(const volume::LabeledVolume&, const std::vector<openvdb::Coord>&, int);
+  friend std::vector<BlockMesh> meshGatheredBlocks(const GatheredBlocks&);
+  std::vector<openvdb::Coord> origins_;
+  std::vector<std::unique_ptr<Block>> blocks_;  // null: no surface
+  float voxel_size_ = 0;                        // of the lattice
+  bool with_colors_ = false;
+};
+GatheredBlocks gatherBlocks(const volume::LabeledVolume& volume, const std::vector<openvdb::Coord>& origins,
+                            int stride = 1);
+std::vector<BlockMesh> meshGatheredBlocks(const GatheredBlocks& gathered);
 
 }  // namespace semfuse::render
