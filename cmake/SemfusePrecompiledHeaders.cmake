@@ -1,4 +1,4 @@
-# OpenVDB's headers cost about 9 s of compiler time per translation unit at -O3 (openvdb/openvdb.h
+# OpenVDB's headers cost 5 to 9 s of compiler time per translation unit at -O3 (openvdb/openvdb.h
 # alone, on the 2-core CI machine), and most sources of the server's libraries, the benchmarks
 # and the map's tests include them through labeled_volume.hpp. A precompiled header per target
 # parses them once per target instead of once per source: `semfuse_precompile_openvdb(target)`
