@@ -1,5 +1,6 @@
 #include "input_accounting.hpp"
 
+#include <algorithm>
 #include <set>
 
 namespace semfuse::bench::load {
@@ -44,7 +45,9 @@ int64_t sum(const std::map<std::string, int64_t>& counts) {
 
 }  // namespace
 
-int64_t InputAccount::unaccounted() const { return sent - integrated - held - sum(dropped) - sum(rejected); }
+int64_t InputAccount::unaccounted() const {
+  return sent - integrated - held - head_loss - sum(dropped) - sum(rejected);
+}
 
 std::vector<InputAccount> accountInputs(const LoadResult& result) {
   std::vector<InputAccount> rows;
@@ -60,6 +63,13 @@ std::vector<InputAccount> accountInputs(const LoadResult& result) {
     }
     row.dropped = deltas(result.before.dropped, result.after.dropped, kFrameDrops, camera.camera_id);
     row.rejected = deltas(result.before.rejected, result.after.rejected, kFrameRejections, camera.camera_id);
+    // The bench numbers a camera's frames from 0 (each slot, written or not), so the server's
+    // first received sequence number is last_seq + 1 - received - gaps. A camera the status does
+    // not list lost everything before a first frame: that stays unaccounted.
+    if (after && !before && after->frames_received > 0) {
+      const auto gaps = row.dropped.count("sequence_gap") ? row.dropped.at("sequence_gap") : 0;
+      row.head_loss = std::max<int64_t>(0, static_cast<int64_t>(after->last_seq) + 1 - row.received - gaps);
+    }
     rows.push_back(std::move(row));
   }
   // Frames still queued at the end belong to no camera in the status: the drain waits them out.

@@ -11,10 +11,18 @@
 
 namespace semfuse::bench::load {
 
+// The server's frames reader keeps the last 8 samples of all cameras together
+// (dds::qos::frameIngest): a camera can lose at most that many before the server takes its first.
+inline constexpr int64_t kMaxHeadLoss = 8;
+
 struct InputAccount {
   std::string what;  // a camera id, or "segmentations"
   int64_t sent = 0, received = 0, integrated = 0, held = 0;
   std::map<std::string, int64_t> dropped, rejected;  // by reason, nonzero only
+  // Frames sent before the first one the server received: overwritten in its DDS reader while
+  // the ingest was busy. No sequence gap can reveal them to the server (it has no earlier frame of
+  // that camera), so the bench counts them from what it sent and the server's last sequence number.
+  int64_t head_loss = 0;
   int64_t unaccounted() const;
 };
 

@@ -61,13 +61,16 @@ const QueryStats* findQuery(const LoadResult& result, const std::string& prefix)
 
 void printLoadReport(const LoadResult& result, const LoadOptions& options, const ingest::Preloaded& data) {
   const double mib = 1024.0 * 1024.0;
-  std::printf("\ninputs (server status counters over the run; unaccounted = lost without a counted reason):\n");
-  std::vector<std::vector<std::string>> inputs{
-      {"input", "sent", "received", "integrated", "dropped by reason", "rejected by reason", "unaccounted"}};
+  std::printf(
+      "\ninputs (server status counters over the run; head loss = sent before the first frame the server received, "
+      "at most %lld; unaccounted = lost without a counted reason):\n",
+      static_cast<long long>(kMaxHeadLoss));
+  std::vector<std::vector<std::string>> inputs{{"input", "sent", "received", "integrated", "dropped by reason",
+                                                "head loss", "rejected by reason", "unaccounted"}};
   for (const InputAccount& row : accountInputs(result))
     inputs.push_back({row.what, std::to_string(row.sent) + " (" + formatNumber(row.sent / result.duration_s, 1) + "/s)",
                       std::to_string(row.received), std::to_string(row.integrated), reasonsText(row.dropped),
-                      reasonsText(row.rejected), std::to_string(row.unaccounted())});
+                      std::to_string(row.head_loss), reasonsText(row.rejected), std::to_string(row.unaccounted())});
   printRows(inputs);
   std::size_t skipped = 0;
   for (const auto& camera : result.cameras) skipped += camera.sent.skipped_slots;
@@ -179,6 +182,9 @@ std::vector<std::string> checkFailures(const LoadResult& result) {
   for (const InputAccount& row : accountInputs(result)) {
     if (row.unaccounted() != 0)
       failures.push_back(row.what + ": " + std::to_string(row.unaccounted()) + " lost without a counted reason");
+    if (row.head_loss > kMaxHeadLoss)
+      failures.push_back(row.what + ": " + std::to_string(row.head_loss) +
+                         " frames lost before the first received, more than the frames reader holds");
     if (row.sent == 0) failures.push_back(row.what + ": nothing sent");
   }
   for (const auto& q : result.queries) {
