@@ -244,6 +244,10 @@ inline void fill(semfuse_msg_dds__LabelCount_& m, Filler& f) {
   m.surface_voxels = f.u64();
   m.area_m2 = f.f64();
 }
+inline void fill(semfuse_msg_dds__FrameRef_& m, Filler& f) {
+  f.string(m.camera_id, "camera");
+  m.seq = f.u64();
+}
 inline void fill(semfuse_msg_dds__ObjectInstance_& m, Filler& f) {
   m.id = f.u32();
   m.label = f.u16();
@@ -257,6 +261,8 @@ inline void fill(semfuse_msg_dds__ObjectInstance_& m, Filler& f) {
   fill(m.box_half_extents, f);
   fill(m.box_rotation, f);
   m.fragment = true;
+  fillEach(m.frames, 2, f);
+  m.frame_count = f.u32();
 }
 template <class M>
 void fillReplyHeader(M& m, Filler& f) {

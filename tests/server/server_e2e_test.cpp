@@ -160,6 +160,25 @@ TEST_F(ServerEndToEnd, FusesLateSegmentationsAnswersQueriesAndResumesAfterRestar
   const ObjectInstance& t = table.value()[0];
   EXPECT_GT(t.area_m2, 0.5);  // the top alone is 1.2 x 0.8 m
   EXPECT_NEAR(t.bbox_max.z(), 0.75, 0.05);
+  // The frames that saw it: of this camera, among those sent, the best of them with the table's
+  // centre in its image (the orbit sees the table from every frame, so all frames count).
+  EXPECT_GT(t.frame_count, static_cast<uint32_t>(kFrames / 2));
+  EXPECT_LE(t.frame_count, static_cast<uint32_t>(kFrames));
+  ASSERT_FALSE(t.frames.empty());
+  EXPECT_LE(t.frames.size(), 16u);
+  for (const FrameRef& f : t.frames) {
+    EXPECT_EQ(f.camera_id, "cam0");
+    EXPECT_LT(f.seq, static_cast<uint64_t>(kFrames));
+  }
+  {
+    const Pose seen_from = sequence.config().trajectory.pose(static_cast<double>(t.frames[0].seq));
+    const Eigen::Vector3d in_camera = seen_from.inverse() * t.centroid;
+    const PinholeIntrinsics& intrinsics = sequence.config().intrinsics;
+    ASSERT_GT(in_camera.z(), 0.0);
+    const double u = intrinsics.fx * in_camera.x() / in_camera.z() + intrinsics.cx;
+    const double v = intrinsics.fy * in_camera.y() / in_camera.z() + intrinsics.cy;
+    EXPECT_TRUE(u >= 0 && u < intrinsics.width && v >= 0 && v < intrinsics.height) << u << ", " << v;
+  }
   ObjectsRequest everything;
   auto all_first = objects_client.objects(everything, 30s);
   auto all_second = objects_client.objects(everything, 30s);
@@ -229,6 +248,34 @@ TEST_F(ServerEndToEnd, FusesLateSegmentationsAnswersQueriesAndResumesAfterRestar
                 depth_after = imageOf(after.value()->depth, CV_32FC1);
   EXPECT_EQ(cv::norm(depth_before, depth_after, cv::NORM_INF), 0.0);
   EXPECT_EQ(cv::countNonZero(imageOf(before.value()->labels, CV_16UC1) != imageOf(after.value()->labels, CV_16UC1)), 0);
+  // The frames that saw an object are not saved with the map: the restarted server, which has
+  // fused no frame yet, knows the table but no frame of it.
+  client::MapClient restarted(h.participant());
+  auto table_after = restarted.objects(tables, 30s);
+  ASSERT_TRUE(table_after.ok()) << table_after.error();
+  ASSERT_EQ(table_after.value().size(), 1u);
+  EXPECT_EQ(table_after.value()[0].frame_count, 0u);
+  EXPECT_TRUE(table_after.value()[0].frames.empty());
+  // Frames fused now count; loading a map through the admin service forgets them again.
+  for (int i = 0; i < 3; ++i) {
+    auto frame = sequence.frameWithGroundTruth(i);
+    ASSERT_TRUE(frame.ok()) << frame.error();
+    publishFrame(h, frame.value().first);
+    ASSERT_TRUE(h.waitPose("cam0", static_cast<uint64_t>(i), 20s)) << "no pose for frame " << i;
+  }
+  auto table_seen = restarted.objects(tables, 30s);
+  ASSERT_TRUE(table_seen.ok() && table_seen.value().size() == 1u);
+  EXPECT_EQ(table_seen.value()[0].frame_count, 3u);
+  semfuse_srv_dds__Admin_Request_ load{};
+  load.command = semfuse_srv_dds__Admin_Request_Constants_LOAD;
+  const std::string map_path = map.string();
+  load.path = const_cast<char*>(map_path.c_str());
+  auto reloaded = h.admin().call(load, 30s);
+  ASSERT_TRUE(reloaded.ok()) << reloaded.error();
+  ASSERT_EQ(reloaded.value()->status, 0) << dds::replyMessage(*reloaded.value());
+  auto table_reloaded = restarted.objects(tables, 30s);
+  ASSERT_TRUE(table_reloaded.ok() && table_reloaded.value().size() == 1u);
+  EXPECT_EQ(table_reloaded.value()[0].frame_count, 0u);
 }
 
 TEST_F(ServerEndToEnd, RejectsBadInputCountsItAndKeepsServing) {

@@ -412,6 +412,8 @@ TEST(WireRoundTrip, QueryReplies) {
   found[0].box_center = {0.5, 1.0, 0.375};
   found[0].box_half_extents = {0.6, 0.4, 0.375};
   found[0].box_rotation = Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()));
+  found[0].frames = {{"kitchen-left", 412}, {"arm", 7}};
+  found[0].frame_count = 230;
   found[1].id = 2;
   found[1].label = 9;
   found[1].bbox_min = {-2.0, -2.0, -2.0};
@@ -436,6 +438,12 @@ TEST(WireRoundTrip, QueryReplies) {
     EXPECT_EQ(objects[i].box_half_extents, found[i].box_half_extents);
     EXPECT_EQ(objects[i].box_rotation.coeffs(), found[i].box_rotation.coeffs());
     EXPECT_EQ(objects[i].fragment, found[i].fragment);
+    EXPECT_EQ(objects[i].frame_count, found[i].frame_count);
+    ASSERT_EQ(objects[i].frames.size(), found[i].frames.size());
+    for (size_t k = 0; k < found[i].frames.size(); ++k) {
+      EXPECT_EQ(objects[i].frames[k].camera_id, found[i].frames[k].camera_id);
+      EXPECT_EQ(objects[i].frames[k].seq, found[i].frames[k].seq);
+    }
   }
 
   MeshChunk chunk;

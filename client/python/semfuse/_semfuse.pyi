@@ -298,6 +298,12 @@ class ObjectInstance:
         """(3, 3) rotation from the box's axes to the world: its columns are the axes."""
     @property
     def fragment(self) -> bool: ...
+    @property
+    def frames(self) -> list[tuple[str, int]]:
+        """(camera_id, seq) of the frames that saw it, those that saw most of its surface first (at most 16)."""
+    @property
+    def frame_count(self) -> int:
+        """How many frames saw it: frames fused since the server started or the map was loaded or reset."""
 
 class ObjectEvent:
     """One change of the map's objects."""

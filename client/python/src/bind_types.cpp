@@ -295,6 +295,16 @@ void bindQueryResults(py::module_& m) {
           "(3, 3) rotation from the box's axes to the world: its columns are the axes. The box is upright "
           "around the up axis when the server knows it, else along the surface's principal axes.")
       .def_readonly("fragment", &ObjectInstance::fragment, "A piece too small to be an object.")
+      .def_property_readonly(
+          "frames",
+          [](const ObjectInstance& o) {
+            std::vector<std::pair<std::string, uint64_t>> frames;
+            for (const FrameRef& f : o.frames) frames.emplace_back(f.camera_id, f.seq);
+            return frames;
+          },
+          "(camera_id, seq) of the frames that saw it, those that saw most of its surface first (at most 16).")
+      .def_readonly("frame_count", &ObjectInstance::frame_count,
+                    "How many frames saw it: frames fused since the server started or the map was loaded or reset.")
       .def("__repr__", [](const ObjectInstance& o) {
         return "semfuse.ObjectInstance(id=" + std::to_string(o.id) + ", label=" + std::to_string(o.label) +
                ", voxel_count=" + std::to_string(o.voxel_count) + ")";

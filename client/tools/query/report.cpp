@@ -30,6 +30,14 @@ std::string vecJson(const Eigen::Vector3d& v) {
   return jsonArray({fmt::format("{:.6g}", v.x()), fmt::format("{:.6g}", v.y()), fmt::format("{:.6g}", v.z())});
 }
 
+// [{"camera_id": ..., "seq": ...}, ...]
+std::string framesJson(const std::vector<FrameRef>& frames) {
+  std::vector<std::string> items;
+  for (const FrameRef& f : frames)
+    items.push_back(JsonObject().field("camera_id", f.camera_id).field("seq", f.seq).str());
+  return jsonArray(items);
+}
+
 }  // namespace
 
 std::string labelName(const LabelLegend& legend, LabelId id) {
@@ -116,12 +124,14 @@ std::string statusJson(const client::ServerStatus& s) {
 }
 
 std::string objectsTable(const std::vector<client::ObjectInstance>& objects, const LabelLegend& legend) {
-  std::string out = fmt::format("{:>5}  {:<16} {:>8} {:>8}  {:>6}  {:<26} {:<26} {:<26}\n", "id", "label", "voxels",
-                                "area m2", "conf", "centroid", "bbox min", "bbox max");
+  std::string out =
+      fmt::format("{:>5}  {:<16} {:>8} {:>8}  {:>6}  {:<26} {:<26} {:<26} {:>6}  {}\n", "id", "label", "voxels",
+                  "area m2", "conf", "centroid", "bbox min", "bbox max", "frames", "seen best by");
   for (const auto& o : objects) {
-    out += fmt::format("{:>5}  {:<16} {:>8} {:>8.3f}  {:>6.3f}  {:<26} {:<26} {:<26}{}\n", o.id,
+    const std::string best = o.frames.empty() ? "-" : fmt::format("{}#{}", o.frames[0].camera_id, o.frames[0].seq);
+    out += fmt::format("{:>5}  {:<16} {:>8} {:>8.3f}  {:>6.3f}  {:<26} {:<26} {:<26} {:>6}  {}{}\n", o.id,
                        fmt::format("{} ({})", labelName(legend, o.label), o.label), o.voxel_count, o.area_m2,
-                       o.mean_confidence, vec(o.centroid), vec(o.bbox_min), vec(o.bbox_max),
+                       o.mean_confidence, vec(o.centroid), vec(o.bbox_min), vec(o.bbox_max), o.frame_count, best,
                        o.fragment ? "  fragment" : "");
   }
   return out + fmt::format("{} objects\n", objects.size());
@@ -147,6 +157,8 @@ std::string objectsJson(const std::vector<client::ObjectInstance>& objects, cons
                  jsonArray({fmt::format("{:.6g}", o.box_rotation.x()), fmt::format("{:.6g}", o.box_rotation.y()),
                             fmt::format("{:.6g}", o.box_rotation.z()), fmt::format("{:.6g}", o.box_rotation.w())}))
             .field("fragment", o.fragment)
+            .field("frame_count", o.frame_count)
+            .raw("frames", framesJson(o.frames))
             .str());
   }
   return jsonArray(items) + "\n";

@@ -38,13 +38,19 @@ void ObjectsCodec::encodeReply(const ServiceReply<Reply>& reply, WireReply& out)
     wire.box_half_extents = {o.box_half_extents.x(), o.box_half_extents.y(), o.box_half_extents.z()};
     wire.box_rotation = {o.box_rotation.x(), o.box_rotation.y(), o.box_rotation.z(), o.box_rotation.w()};
     wire.fragment = o.fragment;
+    dds::resizeSequence(wire.frames, o.frames.size());
+    for (std::size_t i = 0; i < o.frames.size(); ++i) {
+      dds::setString(wire.frames._buffer[i].camera_id, o.frames[i].camera_id);
+      wire.frames._buffer[i].seq = o.frames[i].seq;
+    }
+    wire.frame_count = o.frame_count;
     return wire;
   });
 }
 
 Result<ServiceReply<std::vector<ObjectInstance>>> ObjectsCodec::decodeReply(const WireReply& wire) {
-  return detail::decodeReplyWith<Reply>(wire, [&] {
-    return detail::decodeSequence("objects", wire.objects, [](const semfuse_msg_dds__ObjectInstance_& o) {
+  return detail::decodeReplyWith<Reply>(wire, [&]() -> Result<Reply> {
+    auto objects = detail::decodeSequence("objects", wire.objects, [](const semfuse_msg_dds__ObjectInstance_& o) {
       ObjectInstance instance;
       instance.id = o.id;
       instance.label = o.label;
@@ -59,8 +65,21 @@ Result<ServiceReply<std::vector<ObjectInstance>>> ObjectsCodec::decodeReply(cons
       instance.box_rotation =
           Eigen::Quaterniond(o.box_rotation.w, o.box_rotation.x, o.box_rotation.y, o.box_rotation.z);
       instance.fragment = o.fragment;
+      instance.frame_count = o.frame_count;
       return instance;
     });
+    if (!objects) return objects;
+    // The frames, checked like the objects' sequence itself (a peer's reply may declare more
+    // than it holds).
+    for (uint32_t k = 0; k < wire.objects._length; ++k) {
+      auto frames = detail::decodeSequence("object frames", wire.objects._buffer[k].frames,
+                                           [](const semfuse_msg_dds__FrameRef_& f) {
+                                             return FrameRef{stringOf(f.camera_id), f.seq};
+                                           });
+      if (!frames) return makeError(frames.error());
+      objects.value()[k].frames = std::move(frames).value();
+    }
+    return objects;
   });
 }
 

@@ -90,7 +90,7 @@ FusionServer::FusionServer(ServerConfig config)
   }
 
   fusion_ = std::make_unique<FusionLoop>(*mapper_, frames_, state_, config_.fusion,
-                                         [this](const Frame& f, const FrameOutcome& o) { publishPose(f, o); });
+                                         [this](const Frame& f, const FrameOutcome& o) { frameProcessed(f, o); });
   ingest_ = std::make_unique<Ingest>(participant_, frames_, *fusion_, state_, legend_);
   if (config_.ros.enabled) ros_ingest_ = std::make_unique<RosIngest>(participant_, config_.ros, frames_, state_);
   if (config_.map_updates.rate_hz > 0) {
@@ -216,6 +216,12 @@ Status FusionServer::saveMap(const std::string& path) {
   }
   state_.touch();
   return saved;
+}
+
+// On the fusion thread, which starts after the services exist and stops before they go.
+void FusionServer::frameProcessed(const Frame& frame, const FrameOutcome& outcome) {
+  publishPose(frame, outcome);
+  if (outcome.integrated) services_->recordView(frame, outcome.camera_to_world);
 }
 
 void FusionServer::publishPose(const Frame& frame, const FrameOutcome& outcome) {

@@ -43,6 +43,7 @@ class FusionServer {
   // The stop sequence, for run() and the destructor alike; the second call does nothing.
   void stop();
   void publishStatus();
+  void frameProcessed(const Frame& frame, const FrameOutcome& outcome);  // the fusion loop's callback
   void publishPose(const Frame& frame, const FrameOutcome& outcome);
   Status saveMap(const std::string& path);
 

@@ -50,6 +50,7 @@ Services::Services(const dds::Participant& participant, const ServerConfig& conf
   objects::ObjectParams object_params;
   object_params.up_from_floor = true;
   objects_ = makeObjectTracker(mapper.legend(), config.volume.voxel_size, object_params);
+  view_depth_range_ = {config.volume.min_depth, config.volume.max_depth};
   try {
     object_events_topic_ =
         std::make_unique<dds::Topic<semfuse_msg_dds__ObjectEvents_>>(participant, dds::topics::kObjectEvents);
@@ -72,13 +73,21 @@ Services::Services(const dds::Participant& participant, const ServerConfig& conf
   });
   admin_.map_file = config.map_file;
   admin_.save = std::move(save);
-  admin_.load = [&mapper, &fusion](const std::string& path) {
-    return fusion.runOnFusionThread([&mapper, path] { return mapper.load(path); }, 60s);
-  };
-  admin_.reset = [&mapper, &fusion] {
+  // The frames that saw the old map's objects go with it, on the fusion thread, between two frames.
+  admin_.load = [this, &mapper, &fusion](const std::string& path) {
     return fusion.runOnFusionThread(
-        [&mapper] {
+        [this, &mapper, path] {
+          Status loaded = mapper.load(path);
+          if (loaded) objects_->forgetViews();
+          return loaded;
+        },
+        60s);
+  };
+  admin_.reset = [this, &mapper, &fusion] {
+    return fusion.runOnFusionThread(
+        [this, &mapper] {
           mapper.reset();
+          objects_->forgetViews();
           return Status::Ok();
         },
         60s);
@@ -130,6 +139,10 @@ Services::Services(const dds::Participant& participant, const ServerConfig& conf
   segment_check_server_ =
       serve<wire::SegmentCheckCodec>(participant, topics::segmentCheck(),
                                      [this](const SegmentCheckRequest& r) { return handleSegmentCheck(r, distance_); });
+}
+
+void Services::recordView(const Frame& frame, const Pose& camera_to_world) {
+  objects_->recordView(frame, camera_to_world, view_depth_range_.first, view_depth_range_.second);
 }
 
 Services::~Services() = default;

@@ -12,6 +12,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <utility>
 
 #include "distance_field.hpp"
 #include "distance_handlers.hpp"
@@ -47,6 +48,10 @@ class Services {
            MapUpdater* map_updates = nullptr);
   ~Services();
 
+  // A frame the fusion thread integrated, with the pose it was fused at: the objects' "frames
+  // that saw it" (objects::ViewIndex). From the fusion thread.
+  void recordView(const Frame& frame, const Pose& camera_to_world);
+
  private:
   template <class Codec>
   using Server = std::unique_ptr<dds::RpcServer<typename Codec::WireRequest, typename Codec::WireReply>>;
@@ -67,6 +72,7 @@ class Services {
   std::unique_ptr<dds::Writer<semfuse_msg_dds__ObjectEvents_>> object_events_writer_;
   // The map's objects, shared by the objects and mesh services so that ids stay with objects.
   std::unique_ptr<objects::ObjectTracker> objects_;
+  std::pair<float, float> view_depth_range_;  // the map's min and max depth: what a frame saw
   AdminActions admin_;
   DistanceQueryContext distance_;
   // Last, so that their threads stop before what the handlers use goes.
