@@ -96,6 +96,10 @@ def test_objects_are_the_two_labeled_halves(wall) -> None:
     np.testing.assert_allclose(sorted(table.box_half_extents), sorted((table.bbox_max - table.bbox_min) / 2),
                                atol=2 * VOXEL)
     assert not table.fragment and not box.fragment
+    # Every frame of the slide saw both halves whole.
+    for half in (table, box):
+        assert half.frame_count == FRAMES
+        assert sorted(half.frames) == [("wall", seq) for seq in range(FRAMES)]
     # Filters: near a point of the box half, and with the fragments.
     near_box = client.objects(near=[0.5, 0.0, WALL_Z], radius=0.1)
     assert [o.label for o in near_box] == [BOX]
