@@ -218,10 +218,12 @@ Status FusionServer::saveMap(const std::string& path) {
   return saved;
 }
 
-// On the fusion thread, which starts after the services exist and stops before they go.
+// On the fusion thread, which starts after the services exist and stops before they go. The view
+// is recorded before the pose goes out: a client that queries the objects once it has the pose
+// finds the frame among those that saw them.
 void FusionServer::frameProcessed(const Frame& frame, const FrameOutcome& outcome) {
-  publishPose(frame, outcome);
   if (outcome.integrated) services_->recordView(frame, outcome.camera_to_world);
+  publishPose(frame, outcome);
 }
 
 void FusionServer::publishPose(const Frame& frame, const FrameOutcome& outcome) {
