@@ -303,7 +303,7 @@ class ObjectInstance:
         """(camera_id, seq) of the frames that saw it, those that saw most of its surface first (at most 16)."""
     @property
     def frame_count(self) -> int:
-        """How many frames saw it: frames fused since the server started or the map was loaded or reset."""
+        """How many frames saw it, as far as its 8^3 leaves remember (each the latest 16 that saw it)."""
 
 class ObjectEvent:
     """One change of the map's objects."""

@@ -304,7 +304,7 @@ void bindQueryResults(py::module_& m) {
           },
           "(camera_id, seq) of the frames that saw it, those that saw most of its surface first (at most 16).")
       .def_readonly("frame_count", &ObjectInstance::frame_count,
-                    "How many frames saw it: frames fused since the server started or the map was loaded or reset.")
+                    "How many frames saw it, as far as its 8^3 leaves remember (each the latest 16 that saw it).")
       .def("__repr__", [](const ObjectInstance& o) {
         return "semfuse.ObjectInstance(id=" + std::to_string(o.id) + ", label=" + std::to_string(o.label) +
                ", voxel_count=" + std::to_string(o.voxel_count) + ")";

@@ -64,7 +64,18 @@ std::shared_ptr<const ObjectSet> ObjectTracker::objectsOf(const std::shared_ptr<
   std::lock_guard lock(mutex_);
   const bool same_map =
       last_ && !last_map_.owner_before(map) && !map.owner_before(last_map_) && last_revision_ == map->revision();
-  if (same_map) return last_;
+  // The view is recorded just after the frame's integration, so a call in between has the map
+  // with the frame but not the frame among those that saw it: such a set gets its frames again.
+  const uint64_t views = views_.version();
+  if (same_map && views == last_views_) return last_;
+  if (same_map) {
+    auto refreshed = std::make_shared<ObjectSet>(*last_);
+    for (TrackedObject& object : refreshed->objects)
+      object.frames = views_.framesSeeing(object.figures.leaves, kFramesPerObject, object.frame_count);
+    last_ = refreshed;
+    last_views_ = views;
+    return last_;
+  }
 
   const SurfaceVoxels surface = surface_cache_.update(*map);
   ObjectParams params = params_;
@@ -100,6 +111,7 @@ std::shared_ptr<const ObjectSet> ObjectTracker::objectsOf(const std::shared_ptr<
   last_ = set;
   last_map_ = map;
   last_revision_ = map->revision();
+  last_views_ = views;
   return set;
 }
 

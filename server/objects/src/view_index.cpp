@@ -34,6 +34,7 @@ void ViewIndex::record(const std::string& camera_id, uint64_t seq, const cv::Mat
   std::lock_guard lock(mutex_);
   const auto camera = static_cast<uint32_t>(std::find(cameras_.begin(), cameras_.end(), camera_id) - cameras_.begin());
   if (camera == cameras_.size()) cameras_.push_back(camera_id);
+  ++version_;
   const uint32_t number = first_frame_ + static_cast<uint32_t>(frames_.size());
   frames_.push_back({camera, seq});
   if (frames_.size() > kMaxFrames) {
@@ -52,6 +53,12 @@ void ViewIndex::clear() {
   frames_.clear();
   leaves_.clear();
   first_frame_ = 0;
+  ++version_;
+}
+
+uint64_t ViewIndex::version() const {
+  std::lock_guard lock(mutex_);
+  return version_;
 }
 
 std::size_t ViewIndex::frameCount() const {

@@ -130,7 +130,8 @@ struct ObjectInstance {
   Eigen::Vector3d box_half_extents = Eigen::Vector3d::Zero();
   Eigen::Quaterniond box_rotation = Eigen::Quaterniond::Identity();  // box axes to world
   bool fragment = false;
-  // Frames that saw it, most of its surface first (at most 16), and how many did in all.
+  // Frames that saw it, most of its surface first (at most 16), and how many did, as far as its
+  // leaves remember (each the latest 16 frames that saw it).
   std::vector<FrameRef> frames;
   uint32_t frame_count = 0;
 };

@@ -58,8 +58,8 @@ class ObjectTracker {
   ObjectTracker(ObjectParams params, LabelLegend legend, double voxel_size);
 
   // The objects of `map`; regroups only when `map` is not the snapshot of the last call at the
-  // same revision. Every call hands a snapshot of one map, as new as the last or newer
-  // (surface_cache.hpp).
+  // same revision, and only looks up the frames again when frames were recorded since. Every
+  // call hands a snapshot of one map, as new as the last or newer (surface_cache.hpp).
   std::shared_ptr<const ObjectSet> objectsOf(const std::shared_ptr<const volume::LabeledVolume>& map);
 
   // Called with the events of every update that has any, under the update's lock (so in order).
@@ -88,6 +88,7 @@ class ObjectTracker {
   // the map up to date in place, so the same copy can come back with other content.
   std::weak_ptr<const volume::LabeledVolume> last_map_;
   uint64_t last_revision_ = 0;
+  uint64_t last_views_ = 0;  // the view index's version the last set's frames were taken at
   std::shared_ptr<const ObjectSet> last_;
   uint64_t updates_ = 0;
   std::function<void(const ObjectEvents&)> listener_;

@@ -36,10 +36,14 @@ class ViewIndex {
   void clear();
 
   // Up to max_frames frames that saw any of the leaves (origins, sorted or not), most leaves
-  // first then newest first; `total` gets how many distinct frames did.
+  // first then newest first; `total` gets how many distinct frames did, of those the leaves
+  // remember (each its latest kFramesPerLeaf).
   std::vector<FrameRef> framesSeeing(const std::vector<openvdb::Coord>& leaves, std::size_t max_frames,
                                      uint32_t& total) const;
   std::size_t frameCount() const;
+  // Changes with every record() and clear(): answers of framesSeeing() taken at another version
+  // may be out of date.
+  uint64_t version() const;
 
  private:
   struct LeafFrames {
@@ -62,6 +66,7 @@ class ViewIndex {
   };
   std::deque<FrameRecord> frames_;  // frame number first_frame_ + i
   uint32_t first_frame_ = 0;
+  uint64_t version_ = 0;
   std::unordered_map<openvdb::Coord, LeafFrames, CoordHash> leaves_;
 };
 
