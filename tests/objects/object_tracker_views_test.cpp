@@ -41,8 +41,9 @@ class ObjectTrackerViews : public ::testing::Test {
   }
 
   const TrackedObject* table(const ObjectSet& set) const {
-    auto found = std::find_if(set.objects.begin(), set.objects.end(),
-                              [](const TrackedObject& o) { return !o.fragment && o.label == synthetic::labels::kTable; });
+    auto found = std::find_if(set.objects.begin(), set.objects.end(), [](const TrackedObject& o) {
+      return !o.fragment && o.label == synthetic::labels::kTable;
+    });
     return found == set.objects.end() ? nullptr : &*found;
   }
 
