@@ -68,8 +68,10 @@ void Waves::raise(UpdateStats& stats) {
   raise_.clear();
 }
 
-// Every orphan (a voxel without a site) is offered the sites of its neighbours on its side: those
-// neighbours join the lower wave.
+// Every orphan (a voxel without a site) is offered the sites of its 26 neighbours on its side:
+// those neighbours join the lower wave. All 26, not the 6 over faces: a region of orphans may
+// touch the voxels with sites only at an edge or a corner (thin regions inside objects do), and
+// would then be left without a distance.
 void Waves::seedOrphans() {
   // Neighbouring orphans share neighbours: each voxel is queued once however many orphans border
   // it (a new leaf's 512 orphans would queue their neighbours up to six times).
@@ -79,7 +81,7 @@ void Waves::seedOrphans() {
     const EsdfVoxel o = orphan.voxel();
     if (o.has_site) continue;
     const bool inside = orphan.known() && o.inside;
-    for (const Step& s : kFaces) {
+    for (const Step& s : kAllNeighbours) {
       VoxelRef n;
       if (!neighbourhood_.step(orphan, s.x, s.y, s.z, n)) continue;
       const EsdfVoxel v = n.voxel();
