@@ -89,8 +89,7 @@ bool CameraPublisher::waitForReader(std::chrono::milliseconds timeout) const {
 int CameraPublisher::matchedReaders() const { return impl_->writer.matchedReaders(); }
 
 Status CameraPublisher::waitForAcknowledgements(std::chrono::milliseconds timeout) const {
-  return dds::toStatus(dds_wait_for_acks(impl_->writer.handle(), DDS_MSECS(timeout.count())),
-                       "wait for acknowledgements of the frames");
+  return impl_->writer.waitForAcknowledgements(DDS_MSECS(timeout.count()));
 }
 
 std::size_t CameraPublisher::lastPayloadBytes() const { return impl_->last_bytes; }

@@ -231,8 +231,7 @@ bool Segmenter::waitForCamera(std::chrono::milliseconds timeout) const {
 }
 
 Status Segmenter::waitForAcknowledgements(std::chrono::milliseconds timeout) const {
-  return dds::toStatus(dds_wait_for_acks(impl_->segmentations.handle(), DDS_MSECS(timeout.count())),
-                       "wait for acknowledgements of the segmentations");
+  return impl_->segmentations.waitForAcknowledgements(DDS_MSECS(timeout.count()));
 }
 
 }  // namespace semfuse::client

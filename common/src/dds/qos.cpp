@@ -53,7 +53,9 @@ Qos& Qos::volatileDurability() {
 namespace qos {
 
 Qos frames() { return std::move(Qos().reliable(kMaxBlockingTime).keepLast(2).volatileDurability()); }
-Qos frameIngest() { return std::move(Qos().reliable(kMaxBlockingTime).keepLast(8).volatileDurability()); }
+Qos frameIngest() {
+  return std::move(Qos().reliable(kMaxBlockingTime).keepLast(kFrameIngestDepth).volatileDurability());
+}
 Qos segmentations() { return std::move(Qos().reliable(kMaxBlockingTime).keepLast(8).volatileDurability()); }
 Qos poses() { return std::move(Qos().reliable(kMaxBlockingTime).keepLast(10).volatileDurability()); }
 Qos poseRecording() { return std::move(Qos().reliable(kMaxBlockingTime).keepLast(1000).volatileDurability()); }

@@ -8,12 +8,13 @@
 #include <vector>
 
 #include "load_result.hpp"
+#include "semfuse/dds/qos.hpp"
 
 namespace semfuse::bench::load {
 
-// The server's frames reader keeps the last 8 samples of all cameras together
+// The server's frames reader keeps its last samples of all cameras together
 // (dds::qos::frameIngest): a camera can lose at most that many before the server takes its first.
-inline constexpr int64_t kMaxHeadLoss = 8;
+inline constexpr int64_t kMaxHeadLoss = dds::qos::kFrameIngestDepth;
 
 struct InputAccount {
   std::string what;  // a camera id, or "segmentations"

@@ -187,9 +187,9 @@ Result<LoadResult> LoadRun::run(pid_t pid) {
   // can take longer than the drain's quiet second, and a frame lost at the tail of a stream is
   // never revealed by a later sequence number. So the drain starts once every frame is delivered.
   for (std::size_t k = 0; k < writers_.size(); ++k)
-    if (const dds_return_t acked = dds_wait_for_acks(writers_[k]->handle(), DDS_SECS(30)); acked != DDS_RETCODE_OK)
+    if (const Status acked = writers_[k]->waitForAcknowledgements(DDS_SECS(30)); !acked)
       std::printf("warning: %s: frames not acknowledged by the server within 30 s (%s)\n", plan[k].camera_id.c_str(),
-                  dds_strretcode(acked));
+                  acked.error().c_str());
   for (auto& query : queries) query->stop();
   result.rss = rss.summary();  // the load's window, not the drain's quiet seconds
   const ingest::CpuSample cpu_end = ingest::sampleCpu(pid);

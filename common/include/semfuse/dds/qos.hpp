@@ -42,8 +42,9 @@ Qos frames();  // reliable, keep-last 2, volatile: a late frame is worth less th
 // frame of that camera reveals as a sequence gap. (History depth is not matched between writer
 // and reader.)
 Qos frameIngest();
-Qos segmentations();  // reliable, keep-last 8: segmenters run behind the camera
-Qos poses();          // reliable, keep-last 10
+inline constexpr int32_t kFrameIngestDepth = 8;  // frameIngest()'s keep-last depth
+Qos segmentations();                             // reliable, keep-last 8: segmenters run behind the camera
+Qos poses();                                     // reliable, keep-last 10
 // A reader that records trajectories: reliable, keep-last 1000, so that one who takes the poses
 // now and then (every second at 30 Hz from several cameras) misses none.
 Qos poseRecording();

@@ -27,6 +27,13 @@ class Writer {
   // Fails with a timeout when reliable readers do not acknowledge within max_blocking_time.
   Status write(const T& sample) const { return toStatus(dds_write(entity_.handle(), &sample), "write"); }
 
+  // Waits until every matched reliable reader has acknowledged every sample written so far: a
+  // writer that stops, or whose last samples matter, calls it before it goes.
+  Status waitForAcknowledgements(dds_duration_t timeout) const {
+    return toStatus(dds_wait_for_acks(entity_.handle(), timeout),
+                    ("wait for acknowledgements on " + topic_name_).c_str());
+  }
+
   int32_t matchedReaders() const { return dds::matchedReaders(entity_.handle()); }
   bool waitForReaders(int32_t count, dds_duration_t timeout) const {
     return dds::waitForReaders(entity_.handle(), count, timeout);
