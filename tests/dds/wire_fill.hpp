@@ -187,6 +187,13 @@ inline void fill(semfuse_msg_dds__ErrorEntry_& m, Filler& f) {
   f.string(m.source, "source");
   f.string(m.message, "message");
 }
+inline void fill(semfuse_msg_dds__StageTiming_& m, Filler& f) {
+  f.string(m.stage, "stage");
+  m.count = f.u64();
+  m.p50_ms = f.f32();
+  m.p95_ms = f.f32();
+  m.max_ms = f.f32();
+}
 template <class Sequence>
 void fillEach(Sequence& seq, std::size_t n, Filler& f) {
   resizeSequence(seq, n);
@@ -218,6 +225,7 @@ inline void fill(semfuse_msg_dds__ServerStatus_& m, Filler& f) {
   f.string(m.map_file, "map");
   m.last_save_ok = true;
   m.last_save_age_s = f.f64();
+  fillEach(m.stages, 2, f);
 }
 inline void fill(semfuse_msg_dds__LabelEntry_& m, Filler& f) {
   m.id = f.u16();

@@ -17,15 +17,15 @@ using WireTypes =
              sensor_msgs_msg_dds__CameraInfo_, tf2_msgs_msg_dds__TFMessage_, semfuse_msg_dds__CameraIntrinsics_,
              semfuse_msg_dds__Frame_, semfuse_msg_dds__Segmentation_, semfuse_msg_dds__TrackedPose_,
              semfuse_msg_dds__Counter_, semfuse_msg_dds__CameraState_, semfuse_msg_dds__ErrorEntry_,
-             semfuse_msg_dds__ServerStatus_, semfuse_msg_dds__LabelEntry_, semfuse_msg_dds__LabelLegend_,
-             semfuse_msg_dds__VoxelSample_, semfuse_msg_dds__LabelCount_, semfuse_msg_dds__FrameRef_,
-             semfuse_msg_dds__ObjectInstance_, semfuse_srv_dds__Raycast_Request_, semfuse_srv_dds__Raycast_Response_,
-             semfuse_srv_dds__LabelsAt_Request_, semfuse_srv_dds__LabelsAt_Response_, semfuse_srv_dds__Region_Request_,
-             semfuse_srv_dds__Region_Response_, semfuse_srv_dds__Objects_Request_, semfuse_srv_dds__Objects_Response_,
-             semfuse_srv_dds__Mesh_Request_, semfuse_srv_dds__Mesh_Response_, semfuse_srv_dds__Admin_Request_,
-             semfuse_srv_dds__Admin_Response_>;
+             semfuse_msg_dds__StageTiming_, semfuse_msg_dds__ServerStatus_, semfuse_msg_dds__LabelEntry_,
+             semfuse_msg_dds__LabelLegend_, semfuse_msg_dds__VoxelSample_, semfuse_msg_dds__LabelCount_,
+             semfuse_msg_dds__FrameRef_, semfuse_msg_dds__ObjectInstance_, semfuse_srv_dds__Raycast_Request_,
+             semfuse_srv_dds__Raycast_Response_, semfuse_srv_dds__LabelsAt_Request_,
+             semfuse_srv_dds__LabelsAt_Response_, semfuse_srv_dds__Region_Request_, semfuse_srv_dds__Region_Response_,
+             semfuse_srv_dds__Objects_Request_, semfuse_srv_dds__Objects_Response_, semfuse_srv_dds__Mesh_Request_,
+             semfuse_srv_dds__Mesh_Response_, semfuse_srv_dds__Admin_Request_, semfuse_srv_dds__Admin_Response_>;
 
-inline constexpr int kWireTypeCount = 38;
+inline constexpr int kWireTypeCount = 39;
 
 // fn(Tag<T>{}) for every wire type.
 template <class T>

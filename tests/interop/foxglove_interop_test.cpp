@@ -207,7 +207,8 @@ const char* kStatus =
     "cameras[0].lost_reason=\"too few inliers\"\ncameras[0].frames_since_lost=3\ncameras[0].relocalisations=2\n"
     "last_errors[0].stamp.sec=3\nlast_errors[0].stamp.nanosec=4\nlast_errors[0].source=\"ingest\"\n"
     "last_errors[0].message=\"depth: unknown encoding 'rgb16'\"\nmap_file=\"/tmp/map.vdb\"\nlast_save_ok=true\n"
-    "last_save_age_s=1.5\n";
+    "last_save_age_s=1.5\nstages[0].stage=\"frame_decode\"\nstages[0].count=100\nstages[0].p50_ms=2.5\n"
+    "stages[0].p95_ms=4.25\nstages[0].max_ms=11\n";
 
 // What rt/semfuse/occupancy carries.
 const char* kOccupancyGrid =
@@ -310,6 +311,10 @@ TEST_F(FoxgloveInterop, SemfuseMessagesFromTheMsgFilesAgreeFieldForField) {
         EXPECT_EQ(str(m.last_errors._buffer[0].message), "depth: unknown encoding 'rgb16'");
         EXPECT_EQ(m.allocated_voxels, 123456789012ull);
         EXPECT_EQ(m.last_save_age_s, 1.5);
+        ASSERT_EQ(m.stages._length, 1u);
+        EXPECT_EQ(str(m.stages._buffer[0].stage), "frame_decode");
+        EXPECT_EQ(m.stages._buffer[0].count, 100u);
+        EXPECT_FLOAT_EQ(m.stages._buffer[0].p95_ms, 4.25f);
       });
 }
 

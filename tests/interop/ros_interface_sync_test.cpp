@@ -103,7 +103,7 @@ TEST(RosInterfaceSync, ColconCMakeListsNamesEveryInterfaceFile) {
       EXPECT_NE(cmake.find(rel), std::string::npos) << rel << " not in rosidl_generate_interfaces";
     }
   }
-  EXPECT_EQ(files, 34);
+  EXPECT_EQ(files, 35);
   // The package must be called semfuse: rmw_cyclonedds derives the DDS type names from it.
   EXPECT_NE(readText(kPackage / "package.xml").find("<name>semfuse</name>"), std::string::npos);
   EXPECT_TRUE(std::regex_search(cmake, std::regex(R"(project\(semfuse\))")));

@@ -161,6 +161,9 @@ def test_status_legend_and_poses(wall) -> None:
     assert status.cameras[0].tracking_state == "given"
     assert status.voxel_size == pytest.approx(VOXEL)
     assert status.rejected_count() == 0
+    stages = {t.stage: t for t in status.stages}
+    assert stages["integrate"].count == FRAMES and stages["frame_decode"].count == FRAMES
+    assert 0 < stages["integrate"].p50_ms <= stages["integrate"].p95_ms <= stages["integrate"].max_ms
     assert client.wait_for_status().frames_integrated >= 0
 
     legend = client.legend()

@@ -124,6 +124,20 @@ TEST_F(ServerEndToEnd, FusesLateSegmentationsAnswersQueriesAndResumesAfterRestar
   EXPECT_EQ(status->segmentations_integrated, static_cast<uint64_t>(kFrames));
   EXPECT_EQ(counterTotal(status->dropped), 0u);
   EXPECT_EQ(counterTotal(status->rejected), 0u);
+  // Where the time went: every frame decoded, queued, tracked and integrated once; every
+  // segmentation was sent after its frame's pose came, so each was fused on its own.
+  std::map<std::string, const semfuse_msg_dds__StageTiming_*> stages;
+  for (uint32_t i = 0; i < status->stages._length; ++i)
+    stages[status->stages._buffer[i].stage] = &status->stages._buffer[i];
+  for (const char* stage : {"frame_decode", "frame_queue", "track", "integrate"}) {
+    ASSERT_TRUE(stages.count(stage)) << stage;
+    EXPECT_EQ(stages[stage]->count, static_cast<uint64_t>(kFrames)) << stage;
+    EXPECT_GT(stages[stage]->max_ms, 0.0F) << stage;
+    EXPECT_LE(stages[stage]->p50_ms, stages[stage]->p95_ms) << stage;
+    EXPECT_LE(stages[stage]->p95_ms, stages[stage]->max_ms) << stage;
+  }
+  ASSERT_TRUE(stages.count("late_labels"));
+  EXPECT_EQ(stages["late_labels"]->count, static_cast<uint64_t>(kFrames));
 
   // Raycast from a pose between two frames: labels agree with the ground truth.
   const Pose view_pose = sequence.config().trajectory.pose(10.5);

@@ -188,6 +188,7 @@ ServerStatus testStatus() {
   s.map_file = "/var/lib/semfuse/map.vdb";
   s.last_save_ok = true;
   s.last_save_age_s = 42.0;
+  s.stages = {{"frame_decode", 120, 1.5F, 3.25F, 9.0F}, {"integrate", 118, 4.0F, 7.5F, 30.0F}};
   return s;
 }
 
@@ -244,6 +245,14 @@ void expectSameStatus(const ServerStatus& in, const ServerStatus& out) {
   EXPECT_EQ(out.map_file, in.map_file);
   EXPECT_EQ(out.last_save_ok, in.last_save_ok);
   EXPECT_EQ(out.last_save_age_s, in.last_save_age_s);
+  ASSERT_EQ(out.stages.size(), in.stages.size());
+  for (size_t i = 0; i < in.stages.size(); ++i) {
+    EXPECT_EQ(out.stages[i].stage, in.stages[i].stage);
+    EXPECT_EQ(out.stages[i].count, in.stages[i].count);
+    EXPECT_EQ(out.stages[i].p50_ms, in.stages[i].p50_ms);
+    EXPECT_EQ(out.stages[i].p95_ms, in.stages[i].p95_ms);
+    EXPECT_EQ(out.stages[i].max_ms, in.stages[i].max_ms);
+  }
 }
 
 TEST(WireRoundTrip, ServerStatus) {

@@ -160,6 +160,21 @@ class ErrorRecord:
     @property
     def message(self) -> str: ...
 
+class StageTiming:
+    """How long one stage of the server's work took: runs since the server started; median, 95th
+    percentile and maximum over the last (at most 1,000) runs."""
+
+    @property
+    def stage(self) -> str: ...
+    @property
+    def count(self) -> int: ...
+    @property
+    def p50_ms(self) -> float: ...
+    @property
+    def p95_ms(self) -> float: ...
+    @property
+    def max_ms(self) -> float: ...
+
 class ServerStatus:
     """The server's counters and state: what it received, integrated, dropped and rejected (by reason),
     per camera, and the map's size."""
@@ -213,6 +228,10 @@ class ServerStatus:
     @property
     def last_save_age_s(self) -> float:
         """Negative: never saved."""
+    @property
+    def stages(self) -> list[StageTiming]:
+        """Where the server's time goes: frame_decode, frame_queue, track, integrate, late_labels,
+        map_update, distance_field (those that ran)."""
     def dropped_count(self, reason: str | None = None, camera_id: str | None = None) -> int:
         """Inputs dropped for `reason` (None: any) by `camera_id` (None: any)."""
     def rejected_count(self, reason: str | None = None, camera_id: str | None = None) -> int:

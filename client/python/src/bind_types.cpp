@@ -147,6 +147,18 @@ void bindStatus(py::module_& m) {
       .def("__repr__", [](const ServerError& e) {
         return "semfuse.ErrorRecord(source='" + e.source + "', message='" + e.message + "')";
       });
+  py::class_<StageTiming>(m, "StageTiming",
+                          "How long one stage of the server's work took: runs since the server started; median, "
+                          "95th percentile and maximum over the last (at most 1,000) runs.")
+      .def_readonly("stage", &StageTiming::stage)
+      .def_readonly("count", &StageTiming::count)
+      .def_readonly("p50_ms", &StageTiming::p50_ms)
+      .def_readonly("p95_ms", &StageTiming::p95_ms)
+      .def_readonly("max_ms", &StageTiming::max_ms)
+      .def("__repr__", [](const StageTiming& t) {
+        return "semfuse.StageTiming(stage='" + t.stage + "', count=" + std::to_string(t.count) + ")";
+      });
+
   py::class_<ServerStatus>(m, "ServerStatus",
                            "The server's counters and state: what it received, integrated, dropped (by reason) and "
                            "rejected (by reason), per camera, and the map's size.")
@@ -174,6 +186,9 @@ void bindStatus(py::module_& m) {
       .def_readonly("map_file", &ServerStatus::map_file)
       .def_readonly("last_save_ok", &ServerStatus::last_save_ok)
       .def_readonly("last_save_age_s", &ServerStatus::last_save_age_s, "Negative: never saved.")
+      .def_readonly("stages", &ServerStatus::stages,
+                    "Where the server's time goes: frame_decode, frame_queue, track, integrate, late_labels, "
+                    "map_update, distance_field (those that ran).")
       .def(
           "dropped_count",
           [](const ServerStatus& s, const std::optional<std::string>& reason,

@@ -68,6 +68,11 @@ std::string statusTable(const client::ServerStatus& s) {
     if (!c.lost_reason.empty())
       out += fmt::format("         lost for {} frames: {}\n", c.frames_since_lost, c.lost_reason);
   }
+  if (!s.stages.empty())
+    out += fmt::format("  {:<15}{:>10} {:>10} {:>10} {:>10}\n", "stage, ms", "runs", "p50", "p95", "max");
+  for (const auto& t : s.stages)
+    out +=
+        fmt::format("  {:<15}{:>10} {:>10.2f} {:>10.2f} {:>10.2f}\n", t.stage, t.count, t.p50_ms, t.p95_ms, t.max_ms);
   for (const auto& e : s.last_errors) out += fmt::format("  error  [{}] {}\n", e.source, e.message);
   return out;
 }
@@ -89,6 +94,16 @@ std::string statusJson(const client::ServerStatus& s) {
                           .field("frames_since_lost", c.frames_since_lost)
                           .field("relocalisations", c.relocalisations)
                           .str());
+  }
+  std::vector<std::string> stages;
+  for (const auto& t : s.stages) {
+    stages.push_back(JsonObject()
+                         .field("stage", t.stage)
+                         .field("count", t.count)
+                         .field("p50_ms", static_cast<double>(t.p50_ms))
+                         .field("p95_ms", static_cast<double>(t.p95_ms))
+                         .field("max_ms", static_cast<double>(t.max_ms))
+                         .str());
   }
   std::vector<std::string> errors;
   for (const auto& e : s.last_errors) {
@@ -120,6 +135,7 @@ std::string statusJson(const client::ServerStatus& s) {
       .field("map_file", s.map_file)
       .field("last_save_ok", s.last_save_ok)
       .field("last_save_age_s", s.last_save_age_s)
+      .raw("stages", jsonArray(stages))
       .str();
 }
 

@@ -85,6 +85,16 @@ void encodeServerStatus(const ServerStatus& s, Stamp stamp, semfuse_msg_dds__Ser
   dds::setString(out.map_file, s.map_file);
   out.last_save_ok = s.last_save_ok;
   out.last_save_age_s = s.last_save_age_s;
+  dds::resizeSequence(out.stages, s.stages.size());
+  for (size_t i = 0; i < s.stages.size(); ++i) {
+    auto& t = out.stages._buffer[i];
+    const StageTiming& a = s.stages[i];
+    dds::setString(t.stage, a.stage);
+    t.count = a.count;
+    t.p50_ms = a.p50_ms;
+    t.p95_ms = a.p95_ms;
+    t.max_ms = a.max_ms;
+  }
 }
 
 Result<ServerStatus> decodeServerStatus(const semfuse_msg_dds__ServerStatus_& msg) {
@@ -132,6 +142,12 @@ Result<ServerStatus> decodeServerStatus(const semfuse_msg_dds__ServerStatus_& ms
   s.map_file = stringOf(msg.map_file);
   s.last_save_ok = msg.last_save_ok;
   s.last_save_age_s = msg.last_save_age_s;
+  if (Status ok = validateSequence("status stages", msg.stages._length, msg.stages._maximum, msg.stages._buffer); !ok)
+    return makeError(ok.error());
+  for (uint32_t i = 0; i < msg.stages._length; ++i) {
+    const auto& t = msg.stages._buffer[i];
+    s.stages.push_back({stringOf(t.stage), t.count, t.p50_ms, t.p95_ms, t.max_ms});
+  }
   return s;
 }
 

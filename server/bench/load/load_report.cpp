@@ -86,18 +86,32 @@ void printLoadReport(const LoadResult& result, const LoadOptions& options, const
       skipped, seg_skipped);
 
   const StageTimings stages = stageTimings(result);
-  std::printf("\nstages, ms p50 / p95 (what the server reports: TrackedPose track_ms and integrate_ms):\n");
+  std::printf(
+      "\nstages, ms p50 / p95 (what the server reports: TrackedPose track_ms and integrate_ms, and its status):\n");
   std::vector<std::vector<std::string>> stage_rows{{"stage", "p50 / p95 ms", "n", "what"}};
   stage_rows.push_back({"integration, posed cameras", percentiles(stages.posed_latency),
                         std::to_string(stages.posed_latency.count()), "camera publish -> TrackedPose received"});
   stage_rows.push_back({"integration, tracked cameras", percentiles(stages.tracked_latency),
                         std::to_string(stages.tracked_latency.count()), "camera publish -> TrackedPose received"});
-  stage_rows.push_back({"decode", "-", "-", "not reported by the server (sf-ingest)"});
+  // The server's own stage timings, from its status at the end: over each stage's last 1,000 runs.
+  const auto server_stage = [&](const char* name, const std::string& label, const std::string& what) {
+    for (const auto& t : result.after.stages)
+      if (t.stage == name) {
+        stage_rows.push_back({label, formatNumber(t.p50_ms, 1) + " / " + formatNumber(t.p95_ms, 1),
+                              std::to_string(t.count), what + " (server status, last 1,000)"});
+        return;
+      }
+    stage_rows.push_back({label, "-", "0", what});
+  };
+  server_stage("frame_decode", "decode", "ingest thread, frame from its wire message");
+  server_stage("frame_queue", "queue wait", "decoded -> taken by the fusion thread");
   stage_rows.push_back(
       {"track", percentiles(stages.track), std::to_string(stages.track.count()), "tracked cameras, fusion thread"});
   stage_rows.push_back({"integrate", percentiles(stages.integrate), std::to_string(stages.integrate.count()),
                         "fusion thread, with the labels of a segmentation that came first"});
-  stage_rows.push_back({"labels (late pass)", "-", "-", "not reported by the server"});
+  server_stage("late_labels", "labels (late pass)", "a segmentation fused after its frame");
+  server_stage("map_update", "map update round", "changed blocks meshed and published");
+  server_stage("distance_field", "distance field update", "from the changed leaves");
   if (result.followed)
     stage_rows.push_back({"map update publishing", percentiles(result.update_latency_ms, 0),
                           std::to_string(result.update_latency_ms.count()),

@@ -108,6 +108,7 @@ void DistanceField::updateOnce() {
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   last_update_ms_ = ms;
   ++updates_;
+  if (timings_) timings_->record(Stage::kDistanceField, ms);
   if (stats.rebuilt) spdlog::info("distance field rebuilt: {} leaves in {:.0f} ms", stats.leaves, ms);
 }
 

@@ -23,6 +23,7 @@
 #include "mapper.hpp"
 #include "semfuse/esdf/esdf_map.hpp"
 #include "semfuse/esdf/semantic_distance.hpp"
+#include "stage_timings.hpp"
 
 namespace semfuse::server {
 
@@ -34,6 +35,8 @@ class DistanceField final : public DistanceSource {
   DistanceField(const DistanceField&) = delete;
   DistanceField& operator=(const DistanceField&) = delete;
 
+  // Where each update's time goes (before start()).
+  void recordTimesIn(StageTimings& timings) { timings_ = &timings; }
   void start();
   void stop();    // finishes the slice of the update in hand
   void notify();  // the map changed (any thread)
@@ -84,6 +87,7 @@ class DistanceField final : public DistanceSource {
   std::atomic<bool> running_{false};
   std::thread thread_;
 
+  StageTimings* timings_ = nullptr;
   std::atomic<uint64_t> updates_{0};
   std::atomic<double> last_update_ms_{0.0};
   std::atomic<uint64_t> revision_{0};

@@ -10,18 +10,18 @@ std::optional<Frame> FrameQueue::push(Frame frame) {
     std::lock_guard lock(mutex_);
     auto& queue = queues_[frame.camera_id];
     if (capacity_ > 0 && queue.size() >= capacity_) {
-      evicted = std::move(queue.front());
+      evicted = std::move(queue.front().frame);
       queue.pop_front();
       --total_;
     }
-    queue.push_back(std::move(frame));
+    queue.push_back({std::move(frame), std::chrono::steady_clock::now()});
     ++total_;
   }
   ready_.notify_one();
   return evicted;
 }
 
-std::optional<Frame> FrameQueue::pop(std::chrono::milliseconds timeout) {
+std::optional<Frame> FrameQueue::pop(std::chrono::milliseconds timeout, std::chrono::steady_clock::duration* waited) {
   std::unique_lock lock(mutex_);
   ready_.wait_for(lock, timeout, [this] { return total_ > 0 || woken_; });
   woken_ = false;
@@ -34,7 +34,8 @@ std::optional<Frame> FrameQueue::pop(std::chrono::milliseconds timeout) {
     if (!it->second.empty()) break;
     ++it;
   }
-  Frame frame = std::move(it->second.front());
+  Frame frame = std::move(it->second.front().frame);
+  if (waited) *waited = std::chrono::steady_clock::now() - it->second.front().since;
   it->second.pop_front();
   --total_;
   last_served_ = it->first;

@@ -22,8 +22,9 @@ class FrameQueue {
   // Enqueues; returns the frame evicted to make room, if any (the caller counts it).
   std::optional<Frame> push(Frame frame);
 
-  // Waits up to `timeout` for a frame; the next camera in round-robin order with work.
-  std::optional<Frame> pop(std::chrono::milliseconds timeout);
+  // Waits up to `timeout` for a frame; the next camera in round-robin order with work. `waited`,
+  // when given, receives how long the frame was queued.
+  std::optional<Frame> pop(std::chrono::milliseconds timeout, std::chrono::steady_clock::duration* waited = nullptr);
 
   // Wakes a waiting pop() (used at shutdown).
   void wake();
@@ -34,7 +35,11 @@ class FrameQueue {
   size_t capacity_;
   mutable std::mutex mutex_;
   std::condition_variable ready_;
-  std::map<std::string, std::deque<Frame>> queues_;
+  struct Queued {
+    Frame frame;
+    std::chrono::steady_clock::time_point since;
+  };
+  std::map<std::string, std::deque<Queued>> queues_;
   std::string last_served_;
   size_t total_ = 0;
   bool woken_ = false;

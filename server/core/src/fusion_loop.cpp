@@ -1,5 +1,7 @@
 #include "fusion_loop.hpp"
 
+#include <chrono>
+
 #include <spdlog/spdlog.h>
 
 #include "semfuse/core/thread_name.hpp"
@@ -98,8 +100,10 @@ void FusionLoop::run() {
     }
     for (auto& segmentation : arrived) applySegmentation(std::move(segmentation));
 
-    if (auto frame = frames_.pop(20ms)) {
+    std::chrono::steady_clock::duration queued{};
+    if (auto frame = frames_.pop(20ms, &queued)) {
       busy_ = true;
+      state_.stages.record(Stage::kFrameQueue, std::chrono::duration<double, std::milli>(queued).count());
       processFrame(std::move(*frame));
     }
     expirePending();
@@ -158,6 +162,8 @@ void FusionLoop::processFrame(Frame frame) {
     return;
   }
   const FrameOutcome& result = outcome.value();
+  state_.stages.record(Stage::kTrack, result.track_ms);
+  if (result.integrated) state_.stages.record(Stage::kIntegrate, result.integrate_ms);
   const auto tracking_state = static_cast<uint8_t>(result.pose_state);
   if (result.integrated) {
     ++state_.frames_integrated;
@@ -224,7 +230,10 @@ void FusionLoop::integrateLabels(const HistoryEntry& entry, const Segmentation& 
                       "'s depth " + std::to_string(entry.depth.cols) + "x" + std::to_string(entry.depth.rows));
     return;
   }
+  const auto start = std::chrono::steady_clock::now();
   auto stats = mapper_.integrateSegmentation(entry, segmentation);
+  state_.stages.record(Stage::kLateLabels,
+                       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
   if (!stats.ok()) {
     state_.reject(reason::kInvalidSegmentation, segmentation.camera_id, "segmentation " + segmentation.segmenter_id,
                   stats.error());

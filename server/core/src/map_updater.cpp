@@ -159,6 +159,7 @@ MapUpdater::Round MapUpdater::update() {
     round.parts = publishParts(std::move(changed), changes.all);
   }
   round.total_ms = msSince(start);
+  if (timings_) timings_->record(Stage::kMapUpdate, round.total_ms);
 
   std::lock_guard lock(totals_mutex_);
   ++totals_.rounds;

@@ -25,6 +25,7 @@
 #include "map_update_config.hpp"
 #include "mesh_block_store.hpp"
 #include "semfuse/core/map_blocks.hpp"
+#include "stage_timings.hpp"
 
 namespace semfuse::server {
 
@@ -57,6 +58,8 @@ class MapUpdater {
   MapUpdater(const MapAccess& map, const MapUpdateConfig& config, Sink& sink);
   ~MapUpdater();
 
+  // Where each round's time goes (before start()).
+  void recordTimesIn(StageTimings& timings) { timings_ = &timings; }
   void start();  // the thread; nothing when the rate is 0
   void stop();
 
@@ -80,6 +83,7 @@ class MapUpdater {
   uint64_t published_revision_ = 0;  // revision of the last update published (0 = none)
   std::atomic<int64_t> touched_at_ns_{0};
 
+  StageTimings* timings_ = nullptr;
   mutable std::mutex totals_mutex_;
   Totals totals_;
 

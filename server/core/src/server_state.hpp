@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "event_counters.hpp"
+#include "stage_timings.hpp"
 
 namespace semfuse::server {
 
@@ -65,6 +66,7 @@ class ServerState {
   EventCounters dropped;
   EventCounters rejected;
   ErrorLog errors{16};
+  StageTimings stages;
 
   std::atomic<uint64_t> frames_received{0};
   std::atomic<uint64_t> frames_integrated{0};

@@ -85,6 +85,7 @@ FusionServer::FusionServer(ServerConfig config)
     if (Status ok = validateEsdfConfig(config_.esdf, config_.volume.voxel_size, config_.volume.truncation); !ok)
       throw std::runtime_error(ok.error());
     distance_field_ = std::make_unique<DistanceField>(*mapper_, config_.esdf.field);
+    distance_field_->recordTimesIn(state_.stages);
     mapper_->setChangeListener([field = distance_field_.get()] { field->notify(); });
     occupancy_publisher_ = std::make_unique<OccupancyPublisher>(participant_, *distance_field_, config_.esdf);
   }
@@ -101,6 +102,7 @@ FusionServer::FusionServer(ServerConfig config)
     try {
       map_updates_ = std::make_unique<MapUpdatePublisher>(participant_, *map_access_, config_.map_updates, legend_,
                                                           config_.ros.world_frame);
+      map_updates_->updater().recordTimesIn(state_.stages);
     } catch (const dds::DdsError& e) {
       // E.g. DDS Security permissions written before the live mesh: the map is served without it.
       spdlog::error("map updates off: {}", e.what());
@@ -283,6 +285,7 @@ ServerStatus FusionServer::snapshot() const {
   for (const auto& e : state_.errors.snapshot())
     s.last_errors.push_back({std::chrono::duration<double>(e.time.time_since_epoch()).count(), e.source, e.message});
   s.map_file = config_.map_file;
+  s.stages = state_.stages.summary();
   std::lock_guard lock(save_mutex_);
   s.last_save_ok = last_save_ok_;
   s.last_save_age_s = saved_once_ ? secondsSince(last_save_) : -1.0;

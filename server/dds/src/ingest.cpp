@@ -1,5 +1,7 @@
 #include "ingest.hpp"
 
+#include <chrono>
+
 #include <spdlog/spdlog.h>
 
 #include "semfuse/core/thread_name.hpp"
@@ -75,7 +77,10 @@ void Ingest::onFrame(const semfuse_msg_dds__Frame_& msg) {
   ++state_.frames_received;
   const std::string camera = msg.camera_id ? msg.camera_id : "";
   state_.frameArrived(camera, msg.seq);
+  const auto start = std::chrono::steady_clock::now();
   auto frame = wire::decodeFrame(msg);
+  state_.stages.record(Stage::kFrameDecode,
+                       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
   if (!frame.ok()) {
     state_.reject(reason::kInvalidFrame, camera, "frame " + idOf(msg.camera_id, msg.seq), frame.error());
     return;

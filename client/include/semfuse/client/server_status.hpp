@@ -8,6 +8,7 @@ using semfuse::CameraStatus;
 using semfuse::ReasonCount;
 using semfuse::ServerError;
 using semfuse::ServerStatus;
+using semfuse::StageTiming;
 using semfuse::trackingStateName;
 
 }  // namespace semfuse::client

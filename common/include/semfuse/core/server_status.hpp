@@ -34,6 +34,14 @@ struct ServerError {
   std::string message;
 };
 
+// How long one stage of the server's work took over its most recent runs (stage_timings.hpp in
+// server/core names the stages).
+struct StageTiming {
+  std::string stage;
+  uint64_t count = 0;                                 // runs since the server started
+  float p50_ms = 0.0F, p95_ms = 0.0F, max_ms = 0.0F;  // over the last (at most 1,000) runs
+};
+
 struct ServerStatus {
   std::string server_id;
   std::string version;
@@ -58,7 +66,8 @@ struct ServerStatus {
   std::vector<ServerError> last_errors;
   std::string map_file;
   bool last_save_ok = false;
-  double last_save_age_s = 0.0;  // negative: never saved
+  double last_save_age_s = 0.0;     // negative: never saved
+  std::vector<StageTiming> stages;  // the stages that ran at least once, in pipeline order
 };
 
 // Name of a tracking state ("given", "tracked", "refined", "lost", "unknown").
