@@ -97,19 +97,21 @@ for i in "${!cameras[@]}"; do
   c=${cameras[$i]}
   frames=${sent[$c]}
   received=$(json "$f" "cam('$c')['frames_received']"); gaps=$(json "$f" "dropped('sequence_gap', '$c')")
-  integrated=$(json "$f" "cam('$c')['frames_integrated']"); queue_full=$(json "$f" "dropped('queue_full', '$c')")
+  integrated=$(json "$f" "cam('$c')['frames_integrated']")
+  queue_full=$(json "$f" "dropped('queue_full', '$c')"); queue_stale=$(json "$f" "dropped('queue_stale', '$c')")
   lost=$(json "$f" "cam('$c')['frames_lost']"); last_seq=$(json "$f" "cam('$c')['last_seq']")
   first_sent=$(first_seq "$i"); last_sent=$(( first_sent + frames - 1 ))
   head_loss=$(( last_seq + 1 - received - gaps - first_sent ))
-  say "  $c: sent $frames ($(( frames / elapsed )) Hz), received $received, integrated $integrated, queue_full $queue_full, sequence gaps $gaps, head loss $head_loss, tracking lost $lost"
+  say "  $c: sent $frames ($(( frames / elapsed )) Hz), received $received, integrated $integrated, queue_full $queue_full, queue_stale $queue_stale, sequence gaps $gaps, head loss $head_loss, tracking lost $lost"
   (( last_seq == last_sent )) || fail "$c: the last frame ($last_sent) never arrived (last seen $last_seq)"
   (( head_loss >= 0 && head_loss <= 8 )) || fail "$c: $head_loss frames unaccounted for before the first received one"
-  (( integrated + queue_full + lost == received )) || fail "$c: integrated + queue_full + lost != received"
+  (( integrated + queue_full + queue_stale + lost == received )) ||
+    fail "$c: integrated + queue_full + queue_stale + lost != received"
   (( integrated > 0 )) || fail "$c: nothing integrated"
 done
 say "  segmentations received $(json "$f" 'd["segmentations_received"]'), integrated $(json "$f" 'd["segmentations_integrated"]'), rejected (frame dropped) $(json "$f" 'rejected("unknown_frame")'); dropped by reason: $(json "$f" '{c["reason"] + ("/" + c["camera_id"] if c["camera_id"] else ""): c["count"] for c in d["dropped"]}')"
 say "  raycasts asked $asked, answered $answered; server RSS peak $(( peak_rss / 1048576 )) MiB"
-# Segmentations of frames the server dropped (queue_full) find no frame: rejected as unknown_frame.
+# Segmentations of frames the server dropped (queue_full, queue_stale) find no frame: rejected as unknown_frame.
 check "$f" 'all(c["reason"] == "unknown_frame" for c in d["rejected"])' "input was rejected for another reason than a dropped frame"
 check "$f" 'd["segmentations_received"] == d["segmentations_integrated"] + rejected("unknown_frame") + dropped("frame_dropped") + dropped("segmentation_timeout") + dropped("pending_full") + d["pending_segmentations"]' "segmentation counts do not add up"
 (( answered == asked && asked > 0 )) || fail "$((asked - answered)) of $asked raycasts were not answered"

@@ -85,6 +85,8 @@ TEST(FastDdsInterop, RosCameraOnFastDdsIsFusedAndHearsTfAndStatus) {
                  "8",
                  "--queue-per-camera",
                  "64",
+                 "--max-queue-wait",
+                 "0",
                  "--ros-ingest",
                  "--ros.camera-id",
                  "fastdds",

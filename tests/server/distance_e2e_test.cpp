@@ -36,6 +36,8 @@ std::vector<std::string> esdfServerArgs() {
           "0",
           "--queue-per-camera",
           "64",
+          "--max-queue-wait",
+          "0",
           "--esdf",
           "--esdf.max-distance",
           "1.0",

@@ -1,6 +1,6 @@
 // The server core tells failures apart by their error codes, never by their messages: which
 // reason a rejected frame is counted under, and the codes an admin load or a late task fails with
-// (the status the admin service replies with).
+// (the status the admin service replies with). Frames passed over in the queue are counted too.
 #include <unistd.h>
 
 #include <filesystem>
@@ -49,6 +49,24 @@ void waitIdle(const FusionLoop& loop) {
 }
 
 }  // namespace
+
+TEST(FusionErrors, FramesPassedOverForANewerOneAreCountedAsStale) {
+  Mapper mapper(mapperOptions());
+  // Backlog time zero: a camera behind at a single turn has its newest fused.
+  FrameQueue frames(4, 20ms, 0ms);
+  ServerState state;
+  FusionLoop loop(mapper, frames, state, FusionLimits{}, nullptr);
+  for (uint64_t seq = 1; seq <= 3; ++seq) ASSERT_FALSE(frames.push(wallFrame("a", seq, true)));
+  std::this_thread::sleep_for(50ms);  // the fusion thread fell behind
+  ASSERT_FALSE(frames.push(wallFrame("a", 4, true)));
+  loop.start();
+  waitIdle(loop);
+  loop.stop();
+  // The newest frame is fused, the three that waited too long are dropped and counted.
+  EXPECT_EQ(state.frames_integrated.load(), 1u);
+  EXPECT_EQ(state.dropped.get(reason::kQueueStale, "a"), 3u);
+  EXPECT_EQ(state.cameras().at("a").frames_integrated, 1u);
+}
 
 TEST(FusionErrors, MalformedFramesAreIntegrationFailuresAnUnplacedCameraIsLostNotRejected) {
   Mapper mapper(mapperOptions());

@@ -33,7 +33,8 @@ synthetic::SequenceConfig sequenceConfig() {
 
 std::vector<std::string> serverArgs() {
   return {"--legend",           "synthetic", "--voxel-size",     "0.02", "--truncation",       "0.08",
-          "--queue-per-camera", "400",       "--history-frames", "8",    "--map-updates.rate", "4"};
+          "--queue-per-camera", "400",       "--history-frames", "8",    "--map-updates.rate", "4",
+          "--max-queue-wait",   "0"};
 }
 
 std::map<BlockOrigin, std::size_t> vertexCounts(const client::MapFollower& follower) {

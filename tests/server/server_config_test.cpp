@@ -93,6 +93,7 @@ TEST_F(ServerConfigTest, EveryFlagAndConfigKeyKeepsItsName) {
                            "--pending-segmentations",
                            "--pending-timeout",
                            "--queue-per-camera",
+                           "--max-queue-wait",
                            "--max-raycast-pixels",
                            "--mesh-chunk-bytes",
                            "--map",
@@ -206,4 +207,21 @@ TEST_F(ServerConfigTest, AnEmptyNumberIsRefusedNotReadAsZero) {
   }
   ServerConfig flag;
   EXPECT_THROW(parsedApp(flag, "--voxel-size \"\""), CLI::ParseError);
+}
+
+TEST_F(ServerConfigTest, TheMaximumQueueWaitIsSecondsWithinAMinute) {
+  ServerConfig defaults;
+  auto app = parsedApp(defaults, "");
+  EXPECT_EQ(defaults.max_queue_wait_s, 0.1);
+  EXPECT_EQ(app->get_option("--max-queue-wait")->get_default_str(), "0.1");
+  ServerConfig off;
+  parsedApp(off, "--max-queue-wait 0");
+  EXPECT_EQ(off.max_queue_wait_s, 0.0);
+  ServerConfig from_yaml;
+  parsedApp(from_yaml, "--config " + write("wait.yaml", "max-queue-wait: 0.25\n").string());
+  EXPECT_EQ(from_yaml.max_queue_wait_s, 0.25);
+  for (const char* bad : {"-0.1", "nan", "inf", "61", "0.1s"}) {
+    ServerConfig config;
+    EXPECT_THROW(parsedApp(config, std::string("--max-queue-wait ") + bad), CLI::ParseError) << bad;
+  }
 }

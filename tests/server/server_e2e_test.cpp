@@ -53,7 +53,9 @@ std::vector<std::string> serverArgs(const std::filesystem::path& map) {
           "--pending-timeout",
           "2",
           "--queue-per-camera",
-          "64"};
+          "64",
+          "--max-queue-wait",
+          "0"};
 }
 
 void publishFrame(ServerHarness& h, const Frame& frame) {

@@ -59,6 +59,74 @@ TEST(FrameQueue, CamerasAreServedRoundRobinAndBoundedSeparately) {
   EXPECT_EQ(order, (std::vector<std::string>{"a1", "b10", "a2", "b11", "a3"}));
 }
 
+TEST(FrameQueue, ACameraBehindForGoodHasItsNewestTakenAndTheOthersPassedOver) {
+  FrameQueue queue(4, 20ms, 100ms);
+  for (uint64_t s = 1; s <= 4; ++s) EXPECT_FALSE(queue.push(makeFrame("a", s)));
+  std::this_thread::sleep_for(40ms);  // a hiccup: every frame queued so far waited too long
+  std::vector<Frame> stale;
+  EXPECT_EQ(queue.pop(10ms, nullptr, &stale)->seq, 1u);  // behind, but not for long: in order
+  EXPECT_TRUE(stale.empty());
+
+  // Still behind at each turn for longer than the backlog time: the newest is taken, the frames
+  // before it are handed back.
+  std::this_thread::sleep_for(120ms);
+  EXPECT_FALSE(queue.push(makeFrame("a", 5)));
+  std::chrono::steady_clock::duration waited{};
+  auto frame = queue.pop(10ms, &waited, &stale);
+  ASSERT_TRUE(frame);
+  EXPECT_EQ(frame->seq, 5u);
+  ASSERT_EQ(stale.size(), 3u);
+  EXPECT_EQ(stale[0].seq, 2u);
+  EXPECT_EQ(stale[2].seq, 4u);
+  EXPECT_EQ(queue.size(), 0u);
+
+  // A lone frame that waited too long is taken: there is nothing newer to take instead.
+  stale.clear();
+  EXPECT_FALSE(queue.push(makeFrame("a", 6)));
+  std::this_thread::sleep_for(40ms);
+  frame = queue.pop(10ms, &waited, &stale);
+  ASSERT_TRUE(frame);
+  EXPECT_EQ(frame->seq, 6u);
+  EXPECT_GE(waited, 40ms);
+  EXPECT_TRUE(stale.empty());
+}
+
+TEST(FrameQueue, ACameraThatCatchesUpStartsItsBacklogTimeAgain) {
+  FrameQueue queue(4, 50ms, 250ms);
+  std::vector<Frame> stale;
+  EXPECT_FALSE(queue.push(makeFrame("a", 1)));
+  EXPECT_FALSE(queue.push(makeFrame("a", 2)));
+  std::this_thread::sleep_for(100ms);
+  EXPECT_EQ(queue.pop(10ms, nullptr, &stale)->seq, 1u);  // behind from here
+  EXPECT_EQ(queue.pop(10ms, nullptr, &stale)->seq, 2u);
+  // Caught up: a fresh frame at its turn ends the backlog, so a later hiccup starts afresh.
+  EXPECT_FALSE(queue.push(makeFrame("a", 3)));
+  EXPECT_EQ(queue.pop(10ms, nullptr, &stale)->seq, 3u);
+  std::this_thread::sleep_for(200ms);
+  EXPECT_FALSE(queue.push(makeFrame("a", 4)));
+  EXPECT_FALSE(queue.push(makeFrame("a", 5)));
+  std::this_thread::sleep_for(100ms);  // 300 ms after the first hiccup began, 100 ms into this one
+  EXPECT_EQ(queue.pop(10ms, nullptr, &stale)->seq, 4u);
+  EXPECT_EQ(queue.pop(10ms, nullptr, &stale)->seq, 5u);
+  EXPECT_TRUE(stale.empty());
+}
+
+TEST(FrameQueue, FramesThatDidNotWaitTooLongAreTakenInOrder) {
+  FrameQueue patient(4, 10s, 10s);
+  std::vector<Frame> stale;
+  for (uint64_t s = 1; s <= 3; ++s) EXPECT_FALSE(patient.push(makeFrame("a", s)));
+  for (uint64_t s = 1; s <= 3; ++s) EXPECT_EQ(patient.pop(10ms, nullptr, &stale)->seq, s);
+  EXPECT_TRUE(stale.empty());
+}
+
+TEST(FrameQueue, WithoutAMaximumWaitEveryFrameIsTakenInOrder) {
+  FrameQueue queue(4);
+  for (uint64_t s = 1; s <= 3; ++s) EXPECT_FALSE(queue.push(makeFrame("a", s)));
+  std::this_thread::sleep_for(20ms);
+  std::vector<Frame> stale;
+  for (uint64_t s = 1; s <= 3; ++s) EXPECT_EQ(queue.pop(10ms, nullptr, &stale)->seq, s);
+  EXPECT_TRUE(stale.empty());
+}
 TEST(FrameQueue, WakeReleasesAWaitingPop) {
   FrameQueue queue(2);
   std::thread waker([&] {

@@ -85,7 +85,8 @@ TEST_F(TrackedCameras, ASecondCameraWithoutPoseJoinsTheMapAndTheTrajectoryIsReco
   const dds_domainid_t domain = serverTestDomain();
   ServerHarness h(domain);
   h.startServer({"--legend", "synthetic", "--voxel-size", std::to_string(kVoxel), "--truncation",
-                 std::to_string(4 * kVoxel), "--autosave-period", "0", "--queue-per-camera", "64"});
+                 std::to_string(4 * kVoxel), "--autosave-period", "0", "--queue-per-camera", "64", "--max-queue-wait",
+                 "0"});
   const std::filesystem::path trajectory = dir_ / "poses.csv";
   ChildProcess recorder({SEMFUSE_QUERY_EXE, "--domain-id", std::to_string(domain), "--dds-profile", loopbackProfile(),
                          "--log-level", "warn", "poses", "--out", trajectory.string(), "--format", "csv",

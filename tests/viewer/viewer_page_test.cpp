@@ -137,7 +137,7 @@ TEST(ViewerPage, ShowsTheRoomGrowWithItsLabelsLegendAndCounters) {
   // this one) fusion falls behind a 20 Hz camera, and the default queue of 4 would drop frames
   // (counted) that the page is then waited for in vain. The page is under test here, not pacing.
   h.startServer({"--legend", "synthetic", "--voxel-size", "0.03", "--truncation", "0.12", "--map-updates.rate", "4",
-                 "--queue-per-camera", std::to_string(kFrames)});
+                 "--queue-per-camera", std::to_string(kFrames), "--max-queue-wait", "0"});
   const std::vector<std::string> dds{"--domain-id",     std::to_string(domain), "--dds-profile",
                                      loopbackProfile(), "--log-level",          "warn"};
   auto with = [&](std::vector<std::string> args) {

@@ -8,7 +8,7 @@ namespace {
 
 // The reasons under which the server counts a frame, and those under which it counts a
 // segmentation (server/core/src/server_state.hpp).
-const std::set<std::string> kFrameDrops{"queue_full", "sequence_gap", "tracking_lost"};
+const std::set<std::string> kFrameDrops{"queue_full", "queue_stale", "sequence_gap", "tracking_lost"};
 const std::set<std::string> kFrameRejections{"invalid_frame", "integration_failed"};
 const std::set<std::string> kSegmentationDrops{"frame_dropped", "pending_full", "segmentation_timeout",
                                                "unknown_frame"};

@@ -161,7 +161,7 @@ void printLoadReport(const LoadResult& result, const LoadOptions& options, const
 
   // The service's targets on 2 cores, 7-Scenes frames, 1 cm voxels.
   std::printf("\ntargets:\n");
-  const int64_t queue_drops = droppedTotal(result, "queue_full");
+  const int64_t queue_drops = droppedTotal(result, "queue_full") + droppedTotal(result, "queue_stale");
   int64_t unaccounted = 0;
   for (const InputAccount& row : accountInputs(result)) unaccounted += row.unaccounted();
   const QueryStats* raycast = findQuery(result, "raycast");

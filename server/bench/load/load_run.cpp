@@ -235,16 +235,16 @@ Result<LoadResult> LoadRun::run(pid_t pid) {
 // From the server's latest status: the camera threads' own counts are read only once they ended.
 void LoadRun::showProgress(double elapsed_s) {
   const auto status = map_.latestStatus();
-  uint64_t received = 0, integrated = 0, queue_full = 0;
+  uint64_t received = 0, integrated = 0, queue_drops = 0;
   if (status) {
     received = status->frames_received;
     integrated = status->frames_integrated;
     for (const auto& c : status->dropped)
-      if (c.reason == "queue_full") queue_full += c.count;
+      if (c.reason == "queue_full" || c.reason == "queue_stale") queue_drops += c.count;
   }
   std::printf("  %4.0f s: %llu frames received, %llu integrated, %llu queue drops, server RSS %.0f MiB, load %.2f\n",
               elapsed_s, static_cast<unsigned long long>(received), static_cast<unsigned long long>(integrated),
-              static_cast<unsigned long long>(queue_full),
+              static_cast<unsigned long long>(queue_drops),
               status ? static_cast<double>(status->rss_bytes) / (1024.0 * 1024.0) : 0.0, loadAverage());
   std::fflush(stdout);
 }

@@ -8,7 +8,7 @@ std::optional<Frame> FrameQueue::push(Frame frame) {
   std::optional<Frame> evicted;
   {
     std::lock_guard lock(mutex_);
-    auto& queue = queues_[frame.camera_id];
+    auto& queue = queues_[frame.camera_id].frames;
     if (capacity_ > 0 && queue.size() >= capacity_) {
       evicted = std::move(queue.front().frame);
       queue.pop_front();
@@ -21,7 +21,24 @@ std::optional<Frame> FrameQueue::push(Frame frame) {
   return evicted;
 }
 
-std::optional<Frame> FrameQueue::pop(std::chrono::milliseconds timeout, std::chrono::steady_clock::duration* waited) {
+void FrameQueue::passOverStale(CameraQueue& camera, std::chrono::steady_clock::time_point now,
+                               std::vector<Frame>* stale) {
+  if (max_wait_ <= Duration::zero()) return;
+  const bool late = now - camera.frames.front().since > max_wait_;
+  // Caught up: one frame waiting, and not for long. A fresh oldest frame with others behind it
+  // is not enough: under a sustained overload a turn that comes early finds one now and then.
+  if (!late && camera.frames.size() <= 1) camera.behind_since.reset();
+  if (!late) return;
+  if (!camera.behind_since) camera.behind_since = now;
+  if (now - *camera.behind_since < backlog_time_) return;
+  while (camera.frames.size() > 1) {
+    if (stale) stale->push_back(std::move(camera.frames.front().frame));
+    camera.frames.pop_front();
+    --total_;
+  }
+}
+
+std::optional<Frame> FrameQueue::pop(std::chrono::milliseconds timeout, Duration* waited, std::vector<Frame>* stale) {
   std::unique_lock lock(mutex_);
   ready_.wait_for(lock, timeout, [this] { return total_ > 0 || woken_; });
   woken_ = false;
@@ -31,12 +48,15 @@ std::optional<Frame> FrameQueue::pop(std::chrono::milliseconds timeout, std::chr
   auto it = queues_.upper_bound(last_served_);
   for (size_t visited = 0; visited <= queues_.size(); ++visited) {
     if (it == queues_.end()) it = queues_.begin();
-    if (!it->second.empty()) break;
+    if (!it->second.frames.empty()) break;
     ++it;
   }
-  Frame frame = std::move(it->second.front().frame);
-  if (waited) *waited = std::chrono::steady_clock::now() - it->second.front().since;
-  it->second.pop_front();
+  CameraQueue& camera = it->second;
+  const auto now = std::chrono::steady_clock::now();
+  passOverStale(camera, now, stale);
+  Frame frame = std::move(camera.frames.front().frame);
+  if (waited) *waited = now - camera.frames.front().since;
+  camera.frames.pop_front();
   --total_;
   last_served_ = it->first;
   return frame;

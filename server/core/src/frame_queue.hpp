@@ -1,8 +1,16 @@
 #pragma once
-// Per-camera bounded queues between the DDS callbacks and the fusion thread. When a camera's
-// queue is full the oldest frame is dropped ("keep the newest"): a mapping server that falls
-// behind should fuse what the camera sees now, not what it saw a second ago. Cameras are served
-// round-robin so that one fast camera cannot starve the others.
+// Per-camera bounded queues between the DDS callbacks and the fusion thread. A mapping server that
+// falls behind should fuse what the camera sees now, not what it saw a second ago, so the queue
+// keeps the newest frames in two ways:
+//  - when a camera's queue is full, its oldest frame is dropped;
+//  - when a camera falls behind for good, the fusion thread takes its newest frame and the frames
+//    before it are dropped. Behind: at its turn, its oldest frame waited longer than `max_wait`;
+//    for good: it has not caught up (one frame waiting, not for long) at any turn since it fell
+//    behind `backlog_time` ago. A hiccup (a slow frame, a map save) leaves a backlog that drains
+//    in a few turns and costs no frame; a camera that sends faster than the fusion thread takes
+//    its frames gets its newest fused, a frame period old, instead of one that waited a full
+//    queue's worth.
+// Cameras are served round-robin so that one fast camera cannot starve the others.
 #include <chrono>
 #include <condition_variable>
 #include <deque>
@@ -10,6 +18,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "semfuse/core/types.hpp"
 
@@ -17,14 +26,22 @@ namespace semfuse::server {
 
 class FrameQueue {
  public:
-  explicit FrameQueue(size_t capacity_per_camera) : capacity_(capacity_per_camera) {}
+  using Duration = std::chrono::steady_clock::duration;
+
+  // max_wait zero: frames are taken oldest first however long they waited (replays that must
+  // fuse every frame, with a queue as long as the replay).
+  explicit FrameQueue(size_t capacity_per_camera, Duration max_wait = Duration::zero(),
+                      Duration backlog_time = Duration::zero())
+      : capacity_(capacity_per_camera), max_wait_(max_wait), backlog_time_(backlog_time) {}
 
   // Enqueues; returns the frame evicted to make room, if any (the caller counts it).
   std::optional<Frame> push(Frame frame);
 
   // Waits up to `timeout` for a frame; the next camera in round-robin order with work. `waited`,
-  // when given, receives how long the frame was queued.
-  std::optional<Frame> pop(std::chrono::milliseconds timeout, std::chrono::steady_clock::duration* waited = nullptr);
+  // when given, receives how long the frame was queued; `stale`, the frames of its camera passed
+  // over for it (the caller counts them).
+  std::optional<Frame> pop(std::chrono::milliseconds timeout, Duration* waited = nullptr,
+                           std::vector<Frame>* stale = nullptr);
 
   // Wakes a waiting pop() (used at shutdown).
   void wake();
@@ -32,14 +49,25 @@ class FrameQueue {
   size_t size() const;
 
  private:
-  size_t capacity_;
-  mutable std::mutex mutex_;
-  std::condition_variable ready_;
   struct Queued {
     Frame frame;
     std::chrono::steady_clock::time_point since;
   };
-  std::map<std::string, std::deque<Queued>> queues_;
+  struct CameraQueue {
+    std::deque<Queued> frames;
+    // Since when the camera is behind without having caught up; unset while it keeps up.
+    std::optional<std::chrono::steady_clock::time_point> behind_since;
+  };
+
+  // Drops all but the newest frame of a camera that fell behind for good (see above).
+  void passOverStale(CameraQueue& camera, std::chrono::steady_clock::time_point now, std::vector<Frame>* stale);
+
+  size_t capacity_;
+  Duration max_wait_;
+  Duration backlog_time_;
+  mutable std::mutex mutex_;
+  std::condition_variable ready_;
+  std::map<std::string, CameraQueue> queues_;
   std::string last_served_;
   size_t total_ = 0;
   bool woken_ = false;

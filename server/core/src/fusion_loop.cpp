@@ -101,7 +101,15 @@ void FusionLoop::run() {
     for (auto& segmentation : arrived) applySegmentation(std::move(segmentation));
 
     std::chrono::steady_clock::duration queued{};
-    if (auto frame = frames_.pop(20ms, &queued)) {
+    std::vector<Frame> stale;
+    auto frame = frames_.pop(20ms, &queued, &stale);
+    for (const Frame& dropped : stale) {
+      state_.dropped.add(reason::kQueueStale, dropped.camera_id);
+      spdlog::debug("camera {}: frame {} waited too long, a newer one is fused instead", dropped.camera_id,
+                    dropped.seq);
+    }
+    if (!stale.empty()) state_.touch();
+    if (frame) {
       busy_ = true;
       state_.stages.record(Stage::kFrameQueue, std::chrono::duration<double, std::milli>(queued).count());
       processFrame(std::move(*frame));

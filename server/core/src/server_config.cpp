@@ -1,6 +1,7 @@
 #include "server_config.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <type_traits>
 
@@ -84,6 +85,21 @@ void addServerOptions(CLI::App& app, ServerConfig& c) {
       ->group(limits)
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
+  app.add_option("--max-queue-wait", c.max_queue_wait_s,
+                 "seconds a camera's oldest queued frame may wait: a camera whose oldest frame waited longer, "
+                 "and that has not caught up for 5 times as long, has its newest fused and the ones before it "
+                 "dropped (0 = fuse every queued frame in order)")
+      ->group(limits)
+      ->capture_default_str()
+      ->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            char* end = nullptr;
+            const double seconds = std::strtod(text.c_str(), &end);
+            if (end == text.c_str() || *end != '\0' || !std::isfinite(seconds) || seconds < 0.0 || seconds > 60.0)
+              return "must be seconds within [0, 60], got '" + text + "'";
+            return {};
+          },
+          "SECONDS in [0, 60]"));
   app.add_option("--history-frames", c.fusion.history_frames, "frames kept for late segmentations")
       ->group(limits)
       ->capture_default_str();
@@ -154,6 +170,11 @@ Result<volume::VolumeParams> serverVolumeParams(const ServerConfig& config, cons
   params.background_labels = legend.background_ids;
   if (Status ok = params.validate(); !ok) return ok.errorInfo().prefixed("map parameters: ");
   return params;
+}
+
+std::chrono::steady_clock::duration frameQueueWait(const ServerConfig& config) {
+  return std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+      std::chrono::duration<double>(config.max_queue_wait_s));
 }
 
 }  // namespace semfuse::server

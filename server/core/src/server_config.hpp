@@ -4,6 +4,7 @@
 // parameters, the fusion loop's and the queries' limits are their users' own structs: their
 // defaults are declared there, and the map's flags come from its field table
 // (volume_param_table.hpp).
+#include <chrono>
 #include <cstdint>
 #include <string>
 
@@ -20,6 +21,11 @@
 #include "semfuse/volume/volume_params.hpp"
 
 namespace semfuse::server {
+
+// How long a camera stays behind (its oldest frame over the maximum wait, not caught up since)
+// before its newest frame is fused instead, in multiples of the maximum wait: long enough for the
+// backlog of a hiccup to drain (frame_queue.hpp).
+inline constexpr int kBacklogTimePerMaxWait = 5;
 
 struct ServerConfig {
   // DDS
@@ -38,6 +44,9 @@ struct ServerConfig {
 
   // Ingest limits
   size_t queue_per_camera = 4;
+  // A camera whose oldest queued frame waited longer than this, and that has not caught up for
+  // kBacklogTimePerMaxWait times as long, has its newest fused instead (0 = off; frame_queue.hpp).
+  double max_queue_wait_s = 0.1;
   FusionLimits fusion;
 
   // Tracking
@@ -71,5 +80,8 @@ Result<LabelLegend> serverLegend(const ServerConfig& config);
 // The volume the server builds: config.volume with the label count and the background labels of
 // `legend` (serverLegend's). Errors name the flag to change.
 Result<volume::VolumeParams> serverVolumeParams(const ServerConfig& config, const LabelLegend& legend);
+
+// --max-queue-wait as a duration.
+std::chrono::steady_clock::duration frameQueueWait(const ServerConfig& config);
 
 }  // namespace semfuse::server

@@ -18,13 +18,16 @@ namespace semfuse::server {
 // rejected (malformed or inconsistent). They appear verbatim in ServerStatus.
 namespace reason {
 inline constexpr const char* kQueueFull = "queue_full";  // drop: newer frame came
+// Drop: the camera's oldest queued frame waited longer than --max-queue-wait, and the fusion
+// thread took the camera's newest instead of the frames before it.
+inline constexpr const char* kQueueStale = "queue_stale";
 // Frames the ingest never saw, from gaps in a camera's sequence numbers: lost on the network or
 // overwritten in the DDS reader's history (or skipped on purpose by the camera, e.g. a stride).
 inline constexpr const char* kSequenceGap = "sequence_gap";
 inline constexpr const char* kPendingFull = "pending_full";                  // drop: too many waiting
 inline constexpr const char* kSegmentationTimeout = "segmentation_timeout";  // drop: frame never came
 // A waiting segmentation whose frame will not come: a later frame of its camera was fused first,
-// so its own was dropped before fusion (queue_full) or never received (sequence_gap).
+// so its own was dropped before fusion (queue_full, queue_stale) or never received (sequence_gap).
 inline constexpr const char* kFrameDropped = "frame_dropped";
 inline constexpr const char* kTrackingLost = "tracking_lost";  // frame not integrated
 inline constexpr const char* kInvalidFrame = "invalid_frame";

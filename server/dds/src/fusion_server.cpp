@@ -60,7 +60,7 @@ FusionServer::FusionServer(ServerConfig config)
     : config_(std::move(config)),
       legend_(valueOrThrow(serverLegend(config_))),
       participant_(prepareDds(config_)),
-      frames_(config_.queue_per_camera),
+      frames_(config_.queue_per_camera, frameQueueWait(config_), kBacklogTimePerMaxWait * frameQueueWait(config_)),
       pose_topic_(participant_, dds::topics::kPoses),
       status_topic_(participant_, dds::topics::kStatus),
       legend_topic_(participant_, dds::topics::kLabels),
