@@ -71,6 +71,14 @@ TEST(CliUsage, SegmenterHelpAndBadUsage) {
   expectUsageError(SEMFUSE_SEGMENTER_BIN, "stray-argument", "--backend");
 }
 
+TEST(CliUsage, ExampleSegmenterHelpAndBadUsage) {
+  expectHelp(SEMFUSE_EXAMPLE_SEGMENTER_BIN, "--domain-id");
+  // Plain CLI11 (the example depends on nothing but the client library): a non-zero exit code.
+  const ProgramRun r = run(SEMFUSE_EXAMPLE_SEGMENTER_BIN, "--domain-id many");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("--domain-id"), std::string::npos) << r.err;
+}
+
 TEST(CliUsage, QueryHelpAndBadUsage) {
   expectHelp(SEMFUSE_QUERY_BIN, "raycast");
   expectUsageError(SEMFUSE_QUERY_BIN, "", "Subcommands:");           // a subcommand is required
