@@ -5,6 +5,8 @@
 #include <cstdlib>
 #include <type_traits>
 
+#include <fmt/format.h>
+
 #include "semfuse/core/legend_io.hpp"
 #include "semfuse/volume/volume_param_table.hpp"
 
@@ -24,6 +26,20 @@ CLI::Validator rangeCheck(const volume::ParamField& field) {
         return ok ? std::string() : ok.error();
       },
       field.range->text());
+}
+
+// A duration flag in seconds: a finite number in [0, max_s] (CLI11 reads "nan" and "inf" too).
+CLI::Validator secondsCheck(double max_s) {
+  const std::string range = "[0, " + fmt::format("{:g}", max_s) + "]";
+  return CLI::Validator(
+      [max_s, range](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double seconds = std::strtod(text.c_str(), &end);
+        if (end == text.c_str() || *end != '\0' || !std::isfinite(seconds) || seconds < 0.0 || seconds > max_s)
+          return "must be seconds within " + range + ", got '" + text + "'";
+        return {};
+      },
+      "SECONDS in " + range);
 }
 
 CLI::Validator labelRuleCheck() {
@@ -91,15 +107,7 @@ void addServerOptions(CLI::App& app, ServerConfig& c) {
                  "dropped (0 = fuse every queued frame in order)")
       ->group(limits)
       ->capture_default_str()
-      ->check(CLI::Validator(
-          [](std::string& text) -> std::string {
-            char* end = nullptr;
-            const double seconds = std::strtod(text.c_str(), &end);
-            if (end == text.c_str() || *end != '\0' || !std::isfinite(seconds) || seconds < 0.0 || seconds > 60.0)
-              return "must be seconds within [0, 60], got '" + text + "'";
-            return {};
-          },
-          "SECONDS in [0, 60]"));
+      ->check(secondsCheck(60.0));
   app.add_option("--history-frames", c.fusion.history_frames, "frames kept for late segmentations")
       ->group(limits)
       ->capture_default_str();
