@@ -10,6 +10,7 @@
 #include <future>
 #include <map>
 #include <sstream>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -142,6 +143,13 @@ TEST(FastDdsInterop, RosCameraOnFastDdsIsFusedAndHearsTfAndStatus) {
   EXPECT_EQ(status->segmentations_integrated, static_cast<uint64_t>(kFrames));
   EXPECT_EQ(counterTotal(status->dropped), 0u);
   EXPECT_EQ(counterTotal(status->rejected), 0u);
+  // The decode stage counts each image of a ROS frame: its depth and its colour.
+  const semfuse_msg_dds__StageTiming_* decode = nullptr;
+  for (uint32_t i = 0; i < status->stages._length; ++i)
+    if (std::string(status->stages._buffer[i].stage) == "frame_decode") decode = &status->stages._buffer[i];
+  ASSERT_NE(decode, nullptr);
+  EXPECT_EQ(decode->count, static_cast<uint64_t>(2 * kFrames));
+  EXPECT_GT(decode->max_ms, 0.0F);
 
   // The peer heard the server on /tf (world -> camera at each frame's stamp, the pose it sent)
   // and on /semfuse/status (all frames integrated).

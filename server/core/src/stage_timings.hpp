@@ -14,7 +14,8 @@
 namespace semfuse::server {
 
 enum class Stage : int {
-  kFrameDecode,    // a frame from its wire message (ingest thread)
+  kFrameDecode,    // a frame from its wire message (ingest thread); from ROS 2 topics, each image
+                   // (depth, colour) is a run
   kFrameQueue,     // a frame's wait in its camera's queue, from decoded to taken by the fusion
   kTrack,          // the frame's pose: tracking, or checking a given pose
   kIntegrate,      // depth (and labels that came first) into the map, with the wait for its lock
