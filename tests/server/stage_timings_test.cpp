@@ -1,5 +1,6 @@
 // The server's stage timings: nearest-rank percentiles over each stage's last 1,000 runs, counts
 // since the start, stages that never ran left out, bad samples ignored.
+#include <chrono>
 #include <cmath>
 #include <thread>
 #include <vector>
@@ -46,6 +47,17 @@ TEST(StageTimings, IgnoresNonFiniteSamplesAndClampsNegativeOnes) {
   timings.record(Stage::kTrack, -3.0);  // a clock that stepped back
   ASSERT_EQ(timings.summary().size(), 1u);
   EXPECT_FLOAT_EQ(timings.summary()[0].max_ms, 0.0F);
+}
+
+TEST(StageTimings, ARunSinceAStartIsTheTimeElapsedInMilliseconds) {
+  StageTimings timings;
+  const auto start = std::chrono::steady_clock::now() - std::chrono::milliseconds(250);
+  timings.recordSince(Stage::kFrameDecode, start);
+  const auto summary = timings.summary();
+  ASSERT_EQ(summary.size(), 1u);
+  EXPECT_EQ(summary[0].stage, "frame_decode");
+  EXPECT_GE(summary[0].max_ms, 250.0F);
+  EXPECT_LT(summary[0].max_ms, 10'000.0F);  // milliseconds, not seconds or nanoseconds
 }
 
 TEST(StageTimings, ThreadsRecordingAtOnceLoseNothing) {

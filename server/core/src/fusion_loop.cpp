@@ -240,8 +240,7 @@ void FusionLoop::integrateLabels(const HistoryEntry& entry, const Segmentation& 
   }
   const auto start = std::chrono::steady_clock::now();
   auto stats = mapper_.integrateSegmentation(entry, segmentation);
-  state_.stages.record(Stage::kLateLabels,
-                       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+  state_.stages.recordSince(Stage::kLateLabels, start);
   if (!stats.ok()) {
     state_.reject(reason::kInvalidSegmentation, segmentation.camera_id, "segmentation " + segmentation.segmenter_id,
                   stats.error());

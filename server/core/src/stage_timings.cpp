@@ -37,6 +37,10 @@ void StageTimings::record(Stage stage, double ms) {
   ++samples.count;
 }
 
+void StageTimings::recordSince(Stage stage, std::chrono::steady_clock::time_point start) {
+  record(stage, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+}
+
 std::vector<StageTiming> StageTimings::summary() const {
   std::vector<StageTiming> out;
   std::vector<float> sorted;

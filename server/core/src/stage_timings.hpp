@@ -5,6 +5,7 @@
 // as percentiles over the most recent runs. Safe to record from any thread: a stage records at
 // most a few hundred times a second, so one short lock per sample is cheap.
 #include <array>
+#include <chrono>
 #include <cstdint>
 #include <mutex>
 #include <vector>
@@ -32,6 +33,8 @@ class StageTimings {
   static constexpr std::size_t kWindow = 1000;  // the runs a stage's percentiles cover
 
   void record(Stage stage, double ms);
+  // The run from `start` to now.
+  void recordSince(Stage stage, std::chrono::steady_clock::time_point start);
   // The stages that ran at least once, in the enum's order.
   std::vector<StageTiming> summary() const;
 

@@ -79,8 +79,7 @@ void Ingest::onFrame(const semfuse_msg_dds__Frame_& msg) {
   state_.frameArrived(camera, msg.seq);
   const auto start = std::chrono::steady_clock::now();
   auto frame = wire::decodeFrame(msg);
-  state_.stages.record(Stage::kFrameDecode,
-                       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+  state_.stages.recordSince(Stage::kFrameDecode, start);
   if (!frame.ok()) {
     state_.reject(reason::kInvalidFrame, camera, "frame " + idOf(msg.camera_id, msg.seq), frame.error());
     return;

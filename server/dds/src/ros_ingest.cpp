@@ -160,9 +160,11 @@ void RosIngest::onDepth(const sensor_msgs_msg_dds__Image_& msg) {
   const uint64_t seq = next_seq_++;
   ++state_.frames_received;
   state_.frameArrived(config_.camera_id, seq);
+  // A ROS frame arrives as two images, each decoded as it comes: each is a run of the frame
+  // decode stage (a JPEG colour image is most of a frame's decode).
   const auto start = std::chrono::steady_clock::now();
   auto depth = wire::depthImageToMetres(msg);
-  recordDecode(start);
+  state_.stages.recordSince(Stage::kFrameDecode, start);
   if (!depth.ok()) {
     state_.reject(reason::kInvalidFrame, config_.camera_id, "ROS depth image " + std::to_string(seq), depth.error());
     return;
@@ -176,7 +178,7 @@ void RosIngest::onDepth(const sensor_msgs_msg_dds__Image_& msg) {
 void RosIngest::onColor(const sensor_msgs_msg_dds__Image_& msg) {
   const auto start = std::chrono::steady_clock::now();
   auto image = wire::imageToMat(msg);
-  recordDecode(start);
+  state_.stages.recordSince(Stage::kFrameDecode, start);
   if (image.ok() && image.value().type() != CV_8UC3) {
     image = makeError("colour image: encoding " + text(msg.encoding) + " is not a colour encoding (rgb8, bgr8)");
   }
@@ -190,7 +192,7 @@ void RosIngest::onColor(const sensor_msgs_msg_dds__Image_& msg) {
 void RosIngest::onCompressedColor(const sensor_msgs_msg_dds__CompressedImage_& msg) {
   const auto start = std::chrono::steady_clock::now();
   auto image = wire::compressedImageToMat(msg);
-  recordDecode(start);
+  state_.stages.recordSince(Stage::kFrameDecode, start);
   if (image.ok() && image.value().type() != CV_8UC3) {
     image = makeError("compressed colour image: format '" + text(msg.format) + "' did not decode to colour");
   }
@@ -199,13 +201,6 @@ void RosIngest::onCompressedColor(const sensor_msgs_msg_dds__CompressedImage_& m
     return;
   }
   if (auto dropped = assembler_.addColor(wire::stampOf(msg.header), std::move(image).value())) count(*dropped);
-}
-
-// A ROS frame arrives as two images, decoded as each comes: each is a run of the frame decode
-// stage (a JPEG colour image is most of a frame's decode).
-void RosIngest::recordDecode(std::chrono::steady_clock::time_point start) {
-  state_.stages.record(Stage::kFrameDecode,
-                       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
 }
 
 void RosIngest::onCameraInfo(const sensor_msgs_msg_dds__CameraInfo_& msg) {

@@ -5,7 +5,6 @@
 // Frames and hands those to the same per-camera queue as the native ingest. Every image given
 // up is counted in ServerStatus with its reason. Poses the server uses go out on /tf.
 #include <atomic>
-#include <chrono>
 #include <memory>
 #include <mutex>
 #include <thread>
@@ -56,7 +55,6 @@ class RosIngest {
   void onTf(const tf2_msgs_msg_dds__TFMessage_& msg, bool is_static);
   void flush();
   void count(const RosFrameAssembler::Drop& drop);
-  void recordDecode(std::chrono::steady_clock::time_point start);
 
   const RosIngestConfig config_;
   FrameQueue& frames_;
