@@ -92,20 +92,22 @@ TEST(FrameQueue, ACameraBehindForGoodHasItsNewestTakenAndTheOthersPassedOver) {
 }
 
 TEST(FrameQueue, ACameraThatCatchesUpStartsItsBacklogTimeAgain) {
-  FrameQueue queue(4, 50ms, 250ms);
+  // Waits of 100 ms and more, so that a busy machine's scheduling delays between a push and the
+  // next pop do not make a caught-up turn late.
+  FrameQueue queue(4, 100ms, 500ms);
   std::vector<Frame> stale;
   EXPECT_FALSE(queue.push(makeFrame("a", 1)));
   EXPECT_FALSE(queue.push(makeFrame("a", 2)));
-  std::this_thread::sleep_for(100ms);
+  std::this_thread::sleep_for(200ms);
   EXPECT_EQ(queue.pop(10ms, nullptr, &stale)->seq, 1u);  // behind from here
   EXPECT_EQ(queue.pop(10ms, nullptr, &stale)->seq, 2u);
   // Caught up: a fresh frame at its turn ends the backlog, so a later hiccup starts afresh.
   EXPECT_FALSE(queue.push(makeFrame("a", 3)));
   EXPECT_EQ(queue.pop(10ms, nullptr, &stale)->seq, 3u);
-  std::this_thread::sleep_for(200ms);
+  std::this_thread::sleep_for(400ms);
   EXPECT_FALSE(queue.push(makeFrame("a", 4)));
   EXPECT_FALSE(queue.push(makeFrame("a", 5)));
-  std::this_thread::sleep_for(100ms);  // 300 ms after the first hiccup began, 100 ms into this one
+  std::this_thread::sleep_for(200ms);  // 600 ms after the first hiccup began, 200 ms into this one
   EXPECT_EQ(queue.pop(10ms, nullptr, &stale)->seq, 4u);
   EXPECT_EQ(queue.pop(10ms, nullptr, &stale)->seq, 5u);
   EXPECT_TRUE(stale.empty());
