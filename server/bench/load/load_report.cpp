@@ -151,13 +151,13 @@ void printLoadReport(const LoadResult& result, const LoadOptions& options, const
               static_cast<unsigned long long>(result.after.allocated_voxels));
 
   const RaycastBaseline& idle = result.idle;
-  const double ratio =
-      idle.library_ms.count() && idle.server_ms.count() ? idle.server_ms.median() / idle.library_ms.median() : 0.0;
+  const double ratio = idle.ratio.count() ? idle.ratio.median() : 0.0;
   std::printf(
-      "\nraycast 640x480 d+n+l with nothing else running, on the run's final map: server %s ms, library %s "
-      "ms (p50 / p95), ratio %.2f%s%s\n",
-      percentiles(idle.server_ms).c_str(), percentiles(idle.library_ms).c_str(), ratio, idle.error.empty() ? "" : "; ",
-      idle.error.c_str());
+      "\nraycast 640x480 d+n+l with nothing else running (the server %s after %.1f s), on the run's final map: "
+      "server %s ms, library %s ms (p50 / p95); server / library per pose p50 %.2f, p95 %.2f%s%s\n",
+      idle.quiet ? "quiet" : "STILL BUSY", idle.quiet_wait_s, percentiles(idle.server_ms).c_str(),
+      percentiles(idle.library_ms).c_str(), ratio, idle.ratio.count() ? idle.ratio.p95() : 0.0,
+      idle.error.empty() ? "" : "; ", idle.error.c_str());
 
   // The service's targets on 2 cores, 7-Scenes frames, 1 cm voxels.
   std::printf("\ntargets:\n");

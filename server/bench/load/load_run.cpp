@@ -227,7 +227,7 @@ Result<LoadResult> LoadRun::run(pid_t pid) {
     std::fflush(stdout);
     std::vector<Pose> views;
     for (std::size_t v = 0; v < 4; ++v) views.push_back(data_.poses[v * data_.poses.size() / 4]);
-    result.idle = measureIdleRaycasts(map_, views, data_.intrinsics, 5);
+    result.idle = measureIdleRaycasts(map_, pid, views, data_.intrinsics, 5);
   }
   return result;
 }
