@@ -29,6 +29,20 @@ const std::array<Step, 26> kAllNeighbours = [] {
 // fifth of a voxel farther from their best site).
 constexpr float kBucketsPerVoxel = 4.0f;
 
+// A voxel's place in its bucket as one integer: its leaf's origin (in leaves, 18 bits per axis,
+// offset to be non-negative) and its offset in the leaf. Sorting these integers costs a fraction
+// of comparing origins read through the leaves' pointers, which miss the cache. Leaves 2^18 apart
+// (2.6 km of 1 cm voxels) would share a key: their order is then the sort's, not the origins'.
+uint64_t queueOrder(const VoxelRef& voxel) {
+  constexpr int kBits = 18;
+  constexpr int64_t kBias = int64_t{1} << (kBits - 1);
+  constexpr uint64_t kMask = (uint64_t{1} << kBits) - 1;
+  const openvdb::Coord& origin = voxel.leaf->origin();
+  const auto axis = [&](int v) { return static_cast<uint64_t>((v >> 3) + kBias) & kMask; };
+  return (axis(origin.x()) << (9 + 2 * kBits)) | (axis(origin.y()) << (9 + kBits)) | (axis(origin.z()) << 9) |
+         voxel.n;
+}
+
 // Whether a voxel on the `inside` side of the surface can take a site from (or give one to) a
 // voxel whose state is (known, v): unknown voxels are ways through for the free side only.
 bool sameSide(bool known, const EsdfVoxel& v, bool inside) { return known ? v.inside == inside : !inside; }
@@ -108,9 +122,8 @@ void Waves::lower(UpdateStats& stats) {
     // the cache for the next (in queue order the field is read all over the map). Leaves go by
     // origin, not address, so that the same changes give the same field in every run (which of
     // two nearly equal sites a voxel keeps depends on the order).
-    std::sort(buckets_[current_].begin(), buckets_[current_].end(), [](const Queued& a, const Queued& b) {
-      return a.voxel.leaf != b.voxel.leaf ? a.voxel.leaf->origin() < b.voxel.leaf->origin() : a.voxel.n < b.voxel.n;
-    });
+    std::sort(buckets_[current_].begin(), buckets_[current_].end(),
+              [](const Queued& a, const Queued& b) { return a.order < b.order; });
     // Relaxing a voxel queues its neighbours in this bucket or later ones, never earlier (and
     // may grow the queue: no references into it across a relax).
     for (std::size_t head = 0; head < buckets_[current_].size(); ++head) relax(buckets_[current_][head], stats);
@@ -124,7 +137,7 @@ void Waves::push(const VoxelRef& voxel, float distance) {
   // left unvisited.
   const auto bucket = std::max(current_, static_cast<std::size_t>(std::max(0.0f, distance) * kBucketsPerVoxel));
   if (bucket >= buckets_.size()) buckets_.resize(bucket + 1);
-  buckets_[bucket].push_back({voxel, distance});
+  buckets_[bucket].push_back({voxel, distance, queueOrder(voxel)});
 }
 
 void Waves::relax(Queued item, UpdateStats& stats) {

@@ -11,6 +11,7 @@
 // One object lives as long as its field, so the queues keep their capacity from one update to
 // the next.
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "leaf_neighbourhood.hpp"
@@ -40,6 +41,7 @@ class Waves {
   struct Queued {
     VoxelRef voxel;
     float distance;  // the voxel's distance when queued: larger than now means queued again since
+    uint64_t order;  // where a bucket puts it: by leaf origin, then offset (queueOrder)
   };
 
   void raise(UpdateStats& stats);
