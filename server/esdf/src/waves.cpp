@@ -39,8 +39,7 @@ uint64_t queueOrder(const VoxelRef& voxel) {
   constexpr uint64_t kMask = (uint64_t{1} << kBits) - 1;
   const openvdb::Coord& origin = voxel.leaf->origin();
   const auto axis = [&](int v) { return static_cast<uint64_t>((v >> 3) + kBias) & kMask; };
-  return (axis(origin.x()) << (9 + 2 * kBits)) | (axis(origin.y()) << (9 + kBits)) | (axis(origin.z()) << 9) |
-         voxel.n;
+  return (axis(origin.x()) << (9 + 2 * kBits)) | (axis(origin.y()) << (9 + kBits)) | (axis(origin.z()) << 9) | voxel.n;
 }
 
 // Whether a voxel on the `inside` side of the surface can take a site from (or give one to) a
@@ -88,9 +87,8 @@ void Waves::raise(UpdateStats& stats) {
 // would then be left without a distance.
 void Waves::seedOrphans() {
   // Neighbouring orphans share neighbours: each voxel is queued once however many orphans border
-  // it (a new leaf's 512 orphans would queue their neighbours up to six times).
-  openvdb::MaskTree queued;
-  openvdb::tree::ValueAccessor<openvdb::MaskTree> marks(queued);
+  // it (a new leaf's 512 orphans would queue their neighbours up to six times). The voxel itself
+  // carries the mark while the orphans are seeded.
   for (const VoxelRef& orphan : orphans_) {
     const EsdfVoxel o = orphan.voxel();
     if (o.has_site) continue;
@@ -98,14 +96,17 @@ void Waves::seedOrphans() {
     for (const Step& s : kAllNeighbours) {
       VoxelRef n;
       if (!neighbourhood_.step(orphan, s.x, s.y, s.z, n)) continue;
-      const EsdfVoxel v = n.voxel();
+      const PackedEsdf packed = n.packed();
+      if (isMarked(packed)) continue;
+      const EsdfVoxel v = unpackEsdf(packed);
       if (!v.has_site || !sameSide(n.known(), v, inside)) continue;
-      const openvdb::Coord ijk = n.coord();
-      if (marks.isValueOn(ijk)) continue;
-      marks.setValueOn(ijk);
+      n.leaf->setValueOnly(n.n, withMark(packed));
+      marked_.push_back(n);
       push(n, v.magnitude());
     }
   }
+  for (const VoxelRef& voxel : marked_) voxel.leaf->setValueOnly(voxel.n, withoutMark(voxel.packed()));
+  marked_.clear();
   orphans_.clear();
 }
 

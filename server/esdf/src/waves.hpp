@@ -57,6 +57,7 @@ class Waves {
   // it through the neighbourhood's would evict the leaves a voxel's neighbours are read from.
   openvdb::tree::ValueAccessor<const FieldTree> sites_;
   std::vector<VoxelRef> seeds_, orphans_;
+  std::vector<VoxelRef> marked_;  // the voxels seedOrphans queued, marked until it ends
   std::vector<RaiseItem> raise_;
   std::vector<std::vector<Queued>> buckets_;
   std::size_t current_ = 0;  // the bucket lower() is working through

@@ -6,6 +6,8 @@
 //   bit  56     inside (the site and the voxel are on the surface's negative side)
 //   bit  57     has a site within the maximum distance (else: at least the maximum distance away)
 //   bit  58     is a site itself (offset 0)
+//   bit  63     an update's transient mark (isMarked): set and cleared within one step of it,
+//               never seen by queries or files
 //
 // Active = observed (known); inactive voxels are unknown. The distance is not stored: it is
 // |offset| + the site's distance (voxels), negative inside, which keeps the voxel exact however
@@ -49,6 +51,15 @@ inline int16_t s16(uint64_t bits) { return static_cast<int16_t>(static_cast<uint
 inline constexpr uint64_t kInsideBit = uint64_t{1} << 56;
 inline constexpr uint64_t kHasSiteBit = uint64_t{1} << 57;
 inline constexpr uint64_t kIsSiteBit = uint64_t{1} << 58;
+
+inline constexpr uint64_t kMarkBit = uint64_t{1} << 63;
+inline bool isMarked(PackedEsdf packed) { return (static_cast<uint64_t>(packed) & kMarkBit) != 0; }
+inline PackedEsdf withMark(PackedEsdf packed) {
+  return static_cast<PackedEsdf>(static_cast<uint64_t>(packed) | kMarkBit);
+}
+inline PackedEsdf withoutMark(PackedEsdf packed) {
+  return static_cast<PackedEsdf>(static_cast<uint64_t>(packed) & ~kMarkBit);
+}
 
 inline PackedEsdf packEsdf(const EsdfVoxel& v) {
   const uint64_t bits = detail::u16(v.dx) | (detail::u16(v.dy) << 16) | (detail::u16(v.dz) << 32) |
