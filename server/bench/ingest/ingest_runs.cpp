@@ -14,14 +14,6 @@
 #include "semfuse/dds/topics.hpp"
 
 namespace semfuse::bench::ingest {
-namespace {
-
-double wallMs(std::chrono::steady_clock::time_point from, std::chrono::steady_clock::time_point to) {
-  return std::chrono::duration<double, std::milli>(to - from).count();
-}
-
-}  // namespace
-
 IngestRuns::IngestRuns(const IngestOptions& options, const Preloaded& data, dds_domainid_t domain)
     : options_(options),
       data_(data),
@@ -124,9 +116,8 @@ Result<RunResult> IngestRuns::runOnce(pid_t pid, RssMonitor& rss, int cameras, d
   run.load_end = loadAverage();
 
   // CPU over the publishing window (the drain below adds at most a few queued frames).
-  const double window_s = wallMs(cpu_start.when, cpu_end.when) / 1e3;
-  run.cpu_percent = (cpu_end.process_s - cpu_start.process_s) / window_s * 100.0;
-  run.server_threads = threadShares(cpu_start, cpu_end, window_s);
+  run.cpu_percent = processPercent(cpu_start, cpu_end);
+  run.server_threads = threadShares(cpu_start, cpu_end);
 
   for (const auto& r : results) {
     run.sent += r.sent;

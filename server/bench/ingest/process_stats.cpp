@@ -65,8 +65,15 @@ void RssMonitor::loop() {
   }
 }
 
-std::vector<ThreadCpuShare> threadShares(const CpuSample& start, const CpuSample& end, double window_s) {
+double processPercent(const CpuSample& start, const CpuSample& end) {
+  const double window_s = std::chrono::duration<double>(end.when - start.when).count();
+  return window_s > 0 ? (end.process_s - start.process_s) / window_s * 100.0 : 0.0;
+}
+
+std::vector<ThreadCpuShare> threadShares(const CpuSample& start, const CpuSample& end) {
+  const double window_s = std::chrono::duration<double>(end.when - start.when).count();
   std::map<std::string, ThreadCpuShare> by_name;
+  if (!(window_s > 0)) return {};
   for (const auto& [tid, thread] : end.threads) {
     const auto was = start.threads.find(tid);
     const double used = thread.seconds - (was == start.threads.end() ? 0.0 : was->second.seconds);

@@ -24,6 +24,9 @@ struct CpuSample {
 
 CpuSample sampleCpu(pid_t pid);
 
+// The process's CPU between two of its samples, 100 % = 1 core (0 over an empty window).
+double processPercent(const CpuSample& start, const CpuSample& end);
+
 // The CPU of the threads of one name between two samples (a TBB pool's workers share a name).
 struct ThreadCpuShare {
   std::string name;
@@ -31,7 +34,7 @@ struct ThreadCpuShare {
   double percent = 0;  // 100 % = 1 core, summed over them
 };
 // Busiest first.
-std::vector<ThreadCpuShare> threadShares(const CpuSample& start, const CpuSample& end, double window_s);
+std::vector<ThreadCpuShare> threadShares(const CpuSample& start, const CpuSample& end);
 
 // A field of /proc/<pid>/status in MiB ("VmRSS:", "VmHWM:"), 0 when unreadable.
 double procStatusMiB(pid_t pid, const std::string& field);

@@ -195,10 +195,9 @@ Result<LoadResult> LoadRun::run(pid_t pid) {
   const ingest::CpuSample cpu_end = ingest::sampleCpu(pid);
   const ingest::CpuSample bench_cpu_end = ingest::sampleCpu(::getpid());
   result.load_end = loadAverage();
-  const double window_s = std::chrono::duration<double>(cpu_end.when - cpu_start.when).count();
-  result.server_cpu_percent = (cpu_end.process_s - cpu_start.process_s) / window_s * 100.0;
-  result.bench_cpu_percent = (bench_cpu_end.process_s - bench_cpu_start.process_s) / window_s * 100.0;
-  result.server_threads = ingest::threadShares(cpu_start, cpu_end, window_s);
+  result.server_cpu_percent = ingest::processPercent(cpu_start, cpu_end);
+  result.bench_cpu_percent = ingest::processPercent(bench_cpu_start, bench_cpu_end);
+  result.server_threads = ingest::threadShares(cpu_start, cpu_end);
   for (auto& query : queries) result.queries.push_back(query->stats());
 
   // Segmenters finish the frame in hand and publish it; then the server drains what it holds.

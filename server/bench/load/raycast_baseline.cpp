@@ -13,21 +13,20 @@
 namespace semfuse::bench::load {
 namespace {
 
-constexpr double kQuietShareOfCore = 0.05;
+constexpr double kQuietPercent = 5.0;  // of one core
 constexpr auto kQuietWindow = std::chrono::milliseconds(500);
 constexpr auto kQuietBound = std::chrono::seconds(30);
 
-// Waits until the process used less than kQuietShareOfCore over a whole window; false when it
-// was still busy at the bound.
+// Waits until the process used less than kQuietPercent over a whole window; false when it was
+// still busy at the bound.
 bool waitUntilQuiet(pid_t pid, double& waited_s) {
   const auto start = std::chrono::steady_clock::now();
   ingest::CpuSample before = ingest::sampleCpu(pid);
   for (;;) {
     std::this_thread::sleep_for(kQuietWindow);
     const ingest::CpuSample after = ingest::sampleCpu(pid);
-    const double window_s = std::chrono::duration<double>(after.when - before.when).count();
     waited_s = std::chrono::duration<double>(after.when - start).count();
-    if (window_s > 0 && (after.process_s - before.process_s) / window_s < kQuietShareOfCore) return true;
+    if (after.when > before.when && ingest::processPercent(before, after) < kQuietPercent) return true;
     if (after.when - start > kQuietBound) return false;
     before = after;
   }

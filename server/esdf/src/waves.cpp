@@ -35,11 +35,13 @@ constexpr float kBucketsPerVoxel = 4.0f;
 // (2.6 km of 1 cm voxels) would share a key: their order is then the sort's, not the origins'.
 uint64_t queueOrder(const VoxelRef& voxel) {
   constexpr int kBits = 18;
+  constexpr int kOffsetBits = 3 * FieldLeaf::LOG2DIM;  // voxel.n
   constexpr int64_t kBias = int64_t{1} << (kBits - 1);
   constexpr uint64_t kMask = (uint64_t{1} << kBits) - 1;
   const openvdb::Coord& origin = voxel.leaf->origin();
-  const auto axis = [&](int v) { return static_cast<uint64_t>((v >> 3) + kBias) & kMask; };
-  return (axis(origin.x()) << (9 + 2 * kBits)) | (axis(origin.y()) << (9 + kBits)) | (axis(origin.z()) << 9) | voxel.n;
+  const auto axis = [&](int v) { return static_cast<uint64_t>((v >> FieldLeaf::LOG2DIM) + kBias) & kMask; };
+  return (axis(origin.x()) << (kOffsetBits + 2 * kBits)) | (axis(origin.y()) << (kOffsetBits + kBits)) |
+         (axis(origin.z()) << kOffsetBits) | voxel.n;
 }
 
 // Whether a voxel on the `inside` side of the surface can take a site from (or give one to) a
