@@ -65,7 +65,8 @@ TEST(DistanceCodecs, RequestsRoundTrip) {
 }
 
 TEST(DistanceCodecs, RepliesRoundTrip) {
-  const auto distance = replyValueRoundTrip<DistanceCodec>({{true, false, -0.03f, {0, 0, 1}}, {false, true, 2.0f, {}}});
+  const auto distance = replyValueRoundTrip<DistanceCodec>(
+      {{true, false, -0.03f, {0, 0, 1}}, {false, true, 2.0f, Eigen::Vector3f::Zero()}});
   ASSERT_EQ(distance.value.size(), 2u);
   EXPECT_TRUE(distance.value[0].known);
   EXPECT_FLOAT_EQ(distance.value[0].distance, -0.03f);
@@ -83,7 +84,7 @@ TEST(DistanceCodecs, RepliesRoundTrip) {
   EXPECT_EQ(grid.cells, threeByTwo().cells);
 
   const auto semantic = replyValueRoundTrip<SemanticDistanceCodec>(
-      {{true, 4, 0.5f, {0, 0, -1}, {0.2, 0.1, 0.75}}, {false, 0, 0, {}, {}}});
+      {{true, 4, 0.5f, {0, 0, -1}, {0.2, 0.1, 0.75}}, {false, 0, 0, Eigen::Vector3f::Zero(), Eigen::Vector3d::Zero()}});
   ASSERT_EQ(semantic.value.size(), 2u);
   EXPECT_EQ(semantic.value[0].label, 4);
   EXPECT_EQ(semantic.value[0].surface_point, Eigen::Vector3d(0.2, 0.1, 0.75));
@@ -99,8 +100,9 @@ TEST(DistanceCodecs, RepliesRoundTrip) {
   EXPECT_EQ(slice.distance.at<float>(0, 0), 0.25f);
   EXPECT_TRUE(std::isinf(slice.distance.at<float>(1, 2)));
 
-  const auto segments = replyValueRoundTrip<SegmentCheckCodec>(
-      {{SegmentStatus::kCollision, 0.4f, {1, 2, 3}, -0.1f}, {SegmentStatus::kUnknown, 0.0f, {}, 0.0f}});
+  const auto segments =
+      replyValueRoundTrip<SegmentCheckCodec>({{SegmentStatus::kCollision, 0.4f, {1, 2, 3}, -0.1f},
+                                              {SegmentStatus::kUnknown, 0.0f, Eigen::Vector3d::Zero(), 0.0f}});
   ASSERT_EQ(segments.value.size(), 2u);
   EXPECT_EQ(segments.value[0].status, SegmentStatus::kCollision);
   EXPECT_EQ(segments.value[0].blocked_at, Eigen::Vector3d(1, 2, 3));
@@ -126,7 +128,8 @@ TEST(DistanceCodecs, MalformedGridsAndRepliesAreRefused) {
   refused(bad, "cell 1 holds 101", [](auto&) {});
 
   dds::Sample<semfuse_srv_dds__SegmentCheck_Response_> reply;
-  SegmentCheckCodec::encodeReply({ReplyCode::kOk, "", {{SegmentStatus::kFree, 1.0f, {}, 0.5f}}}, *reply);
+  SegmentCheckCodec::encodeReply({ReplyCode::kOk, "", {{SegmentStatus::kFree, 1.0f, Eigen::Vector3d::Zero(), 0.5f}}},
+                                 *reply);
   reply->results._buffer[0].status = 7;
   auto decoded = SegmentCheckCodec::decodeReply(*reply);
   ASSERT_FALSE(decoded.ok());
