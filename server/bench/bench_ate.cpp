@@ -59,7 +59,7 @@ int runAte(const AteOptions& options) {
   return 0;
 }
 
-const bool registered = registerBench(
+const bool ate_registered = registerBench(
     "ate", "trajectory error of a recorded TUM-format trajectory against a reference one (ATE, RPE)",
     [](CLI::App& command) {
       auto options = std::make_shared<AteOptions>();

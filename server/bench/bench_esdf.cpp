@@ -240,7 +240,7 @@ int runEsdfBench(const EsdfBenchOptions& options) {
   return 0;
 }
 
-const bool registered = registerBench(
+const bool esdf_registered = registerBench(
     "esdf", "distance field update, recompute, queries, slices and memory (7-Scenes frames)", [](CLI::App& command) {
       auto options = std::make_shared<EsdfBenchOptions>();
       command.add_option("--data", options->data, "7-Scenes sequence folder")->capture_default_str();

@@ -72,7 +72,7 @@ int runIngestBench(const IngestOptions& options) {
   return server_exit == 0 ? code : (code ? code : 1);
 }
 
-const bool registered = registerBench(
+const bool ingest_registered = registerBench(
     "ingest", "semfuse-server over loopback DDS: 1/2/4 cameras at 30 Hz, latency, drops, CPU, raycast under load",
     [](CLI::App& command) {
       auto options = std::make_shared<IngestOptions>();

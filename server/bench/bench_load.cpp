@@ -84,7 +84,7 @@ int runLoadBench(const LoadOptions& options) {
   return server_exit == 0 ? code : (code ? code : 1);
 }
 
-const bool registered = registerBench(
+const bool load_registered = registerBench(
     "load",
     "the whole service on loopback DDS: posed + tracked cameras, segmenters, raycast / labels_at / objects / distance "
     "queries and a map follower at once",

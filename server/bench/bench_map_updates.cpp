@@ -162,7 +162,7 @@ int runMapUpdates(const MapUpdatesOptions& o) {
   return 0;
 }
 
-const bool registered = registerBench(
+const bool map_updates_registered = registerBench(
     "map-updates", "the live mesh's cost: CPU, round time and bytes against the change (7-Scenes frames)",
     [](CLI::App& command) {
       auto options = std::make_shared<MapUpdatesOptions>();

@@ -185,25 +185,27 @@ int runObjectsBench(const ObjectsBenchOptions& o) {
   return 0;
 }
 
-const bool registered = registerBench("objects", "objects query time on the synthetic room", [](CLI::App& command) {
-  auto options = std::make_shared<ObjectsBenchOptions>();
-  command.add_option("--map", options->map, "a saved map file instead of the synthetic room (its legend is used)");
-  command.add_option("--frames", options->frames, "synthetic frames to fuse")->capture_default_str();
-  command.add_option("--scale", options->scale, "image scale of 640x480")->capture_default_str();
-  command.add_option("--voxel", options->voxel, "voxel size, metres")->capture_default_str();
-  command.add_option("--repeats", options->repeats, "timed queries of each kind")->capture_default_str();
-  command.add_option("--changed", options->changed, "share of the leaves written between two queries")
-      ->capture_default_str()
-      ->check(CLI::Range(0.0, 1.0));
-  command.add_option("--picture", options->picture,
-                     "instead of timing, write a PNG of the objects, each id its colour, named by class and id");
-  command.add_option("--picture-pose", options->picture_pose,
-                     "the picture's camera: a file with a 4x4 camera-to-world matrix (a 7-Scenes frame-*.pose.txt); "
-                     "default: from above the map");
-  command.add_option("--picture-back", options->picture_back, "move the picture's camera back this far, metres")
-      ->capture_default_str();
-  return [options] { return runObjectsBench(*options); };
-});
+const bool objects_registered =
+    registerBench("objects", "objects query time on the synthetic room", [](CLI::App& command) {
+      auto options = std::make_shared<ObjectsBenchOptions>();
+      command.add_option("--map", options->map, "a saved map file instead of the synthetic room (its legend is used)");
+      command.add_option("--frames", options->frames, "synthetic frames to fuse")->capture_default_str();
+      command.add_option("--scale", options->scale, "image scale of 640x480")->capture_default_str();
+      command.add_option("--voxel", options->voxel, "voxel size, metres")->capture_default_str();
+      command.add_option("--repeats", options->repeats, "timed queries of each kind")->capture_default_str();
+      command.add_option("--changed", options->changed, "share of the leaves written between two queries")
+          ->capture_default_str()
+          ->check(CLI::Range(0.0, 1.0));
+      command.add_option("--picture", options->picture,
+                         "instead of timing, write a PNG of the objects, each id its colour, named by class and id");
+      command.add_option(
+          "--picture-pose", options->picture_pose,
+          "the picture's camera: a file with a 4x4 camera-to-world matrix (a 7-Scenes frame-*.pose.txt); "
+          "default: from above the map");
+      command.add_option("--picture-back", options->picture_back, "move the picture's camera back this far, metres")
+          ->capture_default_str();
+      return [options] { return runObjectsBench(*options); };
+    });
 
 }  // namespace
 }  // namespace semfuse::bench

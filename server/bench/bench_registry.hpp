@@ -1,7 +1,8 @@
 #pragma once
-// Self-registration of semfuse-bench subcommands. A bench file declares, at namespace scope,
+// Self-registration of semfuse-bench subcommands. A bench file declares, at namespace scope, a
+// constant named after it (unity builds compile several bench files in one unit):
 //
-//   const bool registered = semfuse::bench::registerBench("render", "raycast and mesh timings",
+//   const bool render_registered = semfuse::bench::registerBench("render", "raycast and mesh timings",
 //       [](CLI::App& command) {
 //         auto options = std::make_shared<RenderOptions>();
 //         command.add_option("--frames", options->frames, "frames to render");

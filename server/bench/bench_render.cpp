@@ -224,19 +224,21 @@ int runRenderBench(const RenderBenchOptions& options) {
   return 0;
 }
 
-const bool registered = registerBench("render", "raycast and mesh speed on the 7-Scenes map", [](CLI::App& command) {
-  auto options = std::make_shared<RenderBenchOptions>();
-  command.add_option("--data", options->data, "7-Scenes sequence folder")->capture_default_str();
-  command.add_option("--frames", options->frames, "frames to integrate (from frame 0)")->capture_default_str();
-  command.add_option("--voxel", options->voxel, "voxel size, metres")->capture_default_str();
-  command.add_option("--trunc", options->truncation, "truncation, metres")->capture_default_str();
-  command.add_option("--views", options->views, "raycast poses")->capture_default_str();
-  command.add_option("--repeats", options->repeats, "timed runs per pose / mesh")->capture_default_str();
-  command
-      .add_flag("--baseline,!--no-baseline", options->baseline, "also time the raycast without empty-space skipping")
-      ->capture_default_str();
-  return [options] { return runRenderBench(*options); };
-});
+const bool render_registered =
+    registerBench("render", "raycast and mesh speed on the 7-Scenes map", [](CLI::App& command) {
+      auto options = std::make_shared<RenderBenchOptions>();
+      command.add_option("--data", options->data, "7-Scenes sequence folder")->capture_default_str();
+      command.add_option("--frames", options->frames, "frames to integrate (from frame 0)")->capture_default_str();
+      command.add_option("--voxel", options->voxel, "voxel size, metres")->capture_default_str();
+      command.add_option("--trunc", options->truncation, "truncation, metres")->capture_default_str();
+      command.add_option("--views", options->views, "raycast poses")->capture_default_str();
+      command.add_option("--repeats", options->repeats, "timed runs per pose / mesh")->capture_default_str();
+      command
+          .add_flag("--baseline,!--no-baseline", options->baseline,
+                    "also time the raycast without empty-space skipping")
+          ->capture_default_str();
+      return [options] { return runRenderBench(*options); };
+    });
 
 }  // namespace
 }  // namespace semfuse::bench

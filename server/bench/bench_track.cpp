@@ -162,7 +162,7 @@ int runTrackBench(TrackBenchOptions options) {
   return exit_code;
 }
 
-const bool registered = registerBench(
+const bool track_registered = registerBench(
     "track",
     "camera tracking without poses: ATE/RPE, frames lost, relocalisation and wrong poses on TUM, 7-Scenes and the "
     "synthetic room, unbroken and in hard cases",

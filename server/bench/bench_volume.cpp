@@ -287,7 +287,7 @@ int runVolumeBench(const VolumeBenchOptions& options) {
   return 0;
 }
 
-const bool registered = registerBench(
+const bool volume_registered = registerBench(
     "volume", "integration speed and memory of the labeled volume (7-Scenes frames)", [](CLI::App& command) {
       auto options = std::make_shared<VolumeBenchOptions>();
       command.add_option("--data", options->data, "7-Scenes sequence folder")->capture_default_str();
