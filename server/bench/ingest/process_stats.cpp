@@ -72,8 +72,8 @@ double processPercent(const CpuSample& start, const CpuSample& end) {
 
 std::vector<ThreadCpuShare> threadShares(const CpuSample& start, const CpuSample& end) {
   const double window_s = std::chrono::duration<double>(end.when - start.when).count();
-  std::map<std::string, ThreadCpuShare> by_name;
   if (!(window_s > 0)) return {};
+  std::map<std::string, ThreadCpuShare> by_name;
   for (const auto& [tid, thread] : end.threads) {
     const auto was = start.threads.find(tid);
     const double used = thread.seconds - (was == start.threads.end() ? 0.0 : was->second.seconds);
