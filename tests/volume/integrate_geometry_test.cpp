@@ -113,11 +113,40 @@ TEST(IntegrateGeometry, WeightIsClampedAndColourAveraged) {
   EXPECT_NEAR(v.tsdf, 0.0f, 1e-4f);
   EXPECT_EQ(volume.color(on_surface), (Rgb8{100, 30, 10}));  // (100 + 200 + 0) / 3, (0 + 0 + 90) / 3, 30 / 3
 
-  // A fourth frame with the surface 2 cm closer: weight stays at the clamp, average moves by 1/4.
-  const cv::Mat closer(k.height, k.width, CV_32FC1, cv::Scalar(0.98));
+  // A fourth frame with the surface 1 cm closer (a full-weight observation, one voxel behind it):
+  // weight stays at the clamp, average moves by 1/4.
+  const cv::Mat closer(k.height, k.width, CV_32FC1, cv::Scalar(0.99));
   ASSERT_TRUE(integrate(volume, closer, cv::Mat(), k, pose).ok());
   EXPECT_EQ(volume.voxel(on_surface).weight, 3.0f);
-  EXPECT_NEAR(volume.voxel(on_surface).tsdf, -0.02f / 4, 1e-4f);
+  EXPECT_NEAR(volume.voxel(on_surface).tsdf, -0.01f / 4, 1e-4f);
+}
+
+// 1 cm voxels, 4 cm truncation: an observation weighs 1 down to 3 cm behind the surface, then
+// less, linearly, to 1/16 at the truncation.
+TEST(IntegrateGeometry, ObservationsFarBehindTheSurfaceWeighLess) {
+  LabeledVolume volume;
+  const PinholeIntrinsics k = smallCamera();
+  const cv::Mat depth(k.height, k.width, CV_32FC1, cv::Scalar(1.0));
+  ASSERT_TRUE(integrate(volume, depth, cv::Mat(), k, Pose::Identity()).ok());
+  EXPECT_EQ(volume.voxel({0, 0, 98}).weight, 1.0f);                    // in front
+  EXPECT_EQ(volume.voxel({0, 0, 100}).weight, 1.0f);                   // on the surface
+  EXPECT_EQ(volume.voxel({0, 0, 102}).weight, 1.0f);                   // 2 cm behind
+  EXPECT_NEAR(volume.voxel({0, 0, 104}).weight, 1.0f / 16.0f, 1e-3f);  // at the truncation
+  EXPECT_NEAR(volume.voxel({0, 0, 104}).tsdf, -0.04f, 1e-4f);          // one view: its value, whatever its weight
+
+  // The surface 5 cm farther: voxel 104, at the truncation behind the first surface, lies 1 cm in
+  // front of this one, and the view that sees it in front outweighs the one that saw it behind:
+  // (-0.04 / 16 + 0.01) / (1/16 + 1) = 0.00706 (-0.015 at equal weights).
+  const cv::Mat farther(k.height, k.width, CV_32FC1, cv::Scalar(1.05));
+  ASSERT_TRUE(integrate(volume, farther, cv::Mat(), k, Pose::Identity()).ok());
+  EXPECT_NEAR(volume.voxel({0, 0, 104}).tsdf, 0.0075f / 1.0625f, 1e-4f);
+  EXPECT_NEAR(volume.voxel({0, 0, 104}).weight, 1.0625f, 1e-3f);
+
+  // Halfway through the drop (3.5 cm behind), half the weight.
+  LabeledVolume halfway;
+  const cv::Mat nearer(k.height, k.width, CV_32FC1, cv::Scalar(0.995));
+  ASSERT_TRUE(integrate(halfway, nearer, cv::Mat(), k, Pose::Identity()).ok());
+  EXPECT_NEAR(halfway.voxel({0, 0, 103}).weight, 0.5f, 2e-3f);
 }
 
 TEST(IntegrateGeometry, TsdfIsTruncatedAndNotUpdatedFarBehind) {

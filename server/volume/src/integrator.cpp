@@ -60,8 +60,11 @@ std::size_t countValidPixels(const FrameView& frame) {
 }
 
 KernelConfig kernelConfig(const VolumeParams& params, const IgnoredLabels* ignored) {
+  const double dropoff_start = detail::kDropoffStart * params.truncation;
   return {static_cast<float>(params.voxel_size),
           static_cast<float>(params.truncation),
+          static_cast<float>(dropoff_start),
+          static_cast<float>(1.0 / (params.truncation - dropoff_start)),
           params.max_weight,
           params.max_label_score,
           ignored,

@@ -60,11 +60,31 @@ inline std::unique_ptr<IgnoredLabels> ignoredLabels(const VolumeParams& params) 
 struct KernelConfig {
   float voxel_size;
   float truncation;
+  // Where behind the surface an observation's weight starts to fall (metres) and how fast, per
+  // metre (observationWeight).
+  float dropoff_start;
+  float dropoff_per_metre;
   float max_weight;
   float max_score;
   const IgnoredLabels* ignored;
   LabelRuleConfig label_rule;
 };
+
+// The weight of one observation of a voxel `sdf` metres in front of (positive) or behind
+// (negative) the surface a depth pixel saw: 1 in front and down to kDropoffStart of the
+// truncation behind, then falling linearly to kMinObservationWeight at the truncation (the
+// linear weight of Bylow et al. 2013). A pixel says little about what lies well behind its
+// surface: behind a thin object or an edge lies space that other views see in front of another
+// face, and at full weight the views from across would average it into "inside". The drop starts
+// that deep because the truncation is a few times the depth noise: a drop within the noise would
+// weigh the noisy samples in front of a surface above those behind it, and move the surface away
+// from the camera. The floor keeps a voxel seen only from behind observed (its weight above zero).
+inline constexpr float kDropoffStart = 0.75f;
+inline constexpr float kMinObservationWeight = 1.0f / 16.0f;
+inline float observationWeight(float sdf, const KernelConfig& config) {
+  return std::min(1.0f,
+                  std::max(kMinObservationWeight, 1.0f + (sdf + config.dropoff_start) * config.dropoff_per_metre));
+}
 
 struct KernelCounts {
   std::size_t updated = 0;
@@ -169,14 +189,15 @@ KernelCounts updateLeafScalar(const LeafPair& leaf, const FrameView& frame, cons
         if (kGeometry) {
           const float weight = halfValue(bits >> 16);
           const float observed = std::min(sdf, config.truncation);
-          const float new_weight = weight + 1.0f;
+          const float observed_weight = observationWeight(sdf, config);
+          const float new_weight = weight + observed_weight;
           const float inv_new_weight = 1.0f / new_weight;  // one division for tsdf and colour
-          const float tsdf = (halfValue(bits) * weight + observed) * inv_new_weight;
+          const float tsdf = (halfValue(bits) * weight + observed * observed_weight) * inv_new_weight;
           if (kColor) {
             const uint8_t* rgb = frame.color + static_cast<std::size_t>(vi) * frame.color_stride + 3 * ui;
             const Rgb8 old = unpackColor(colors[offset]);
             auto blend = [&](uint8_t a, uint8_t b) {
-              return static_cast<uint8_t>((a * weight + b) * inv_new_weight + 0.5f);
+              return static_cast<uint8_t>((a * weight + b * observed_weight) * inv_new_weight + 0.5f);
             };
             colors[offset] = packColor({blend(old.r, rgb[0]), blend(old.g, rgb[1]), blend(old.b, rgb[2])});
           }

@@ -62,11 +62,12 @@ SEMFUSE_AVX2 inline __m256i floatsToHalves(__m256 values) {
   return _mm256_cvtepu16_epi32(_mm256_cvtps_ph(values, _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC));
 }
 
-// One colour channel of the running average: (old * weight + new) / new_weight, rounded.
+// One colour channel of the running average: (old * weight + new * observed_weight) / new_weight,
+// rounded.
 SEMFUSE_AVX2 inline __m256i blendChannel(__m256i old_channel, __m256i new_channel, __m256 weight,
-                                         __m256 inv_new_weight) {
-  const __m256 sum =
-      _mm256_add_ps(_mm256_mul_ps(_mm256_cvtepi32_ps(old_channel), weight), _mm256_cvtepi32_ps(new_channel));
+                                         __m256 observed_weight, __m256 inv_new_weight) {
+  const __m256 sum = _mm256_add_ps(_mm256_mul_ps(_mm256_cvtepi32_ps(old_channel), weight),
+                                   _mm256_mul_ps(_mm256_cvtepi32_ps(new_channel), observed_weight));
   return _mm256_cvttps_epi32(_mm256_add_ps(_mm256_mul_ps(sum, inv_new_weight), _mm256_set1_ps(0.5f)));
 }
 
@@ -250,6 +251,9 @@ SEMFUSE_AVX2 KernelCounts updateLeaf(const LeafPair& leaf, const FrameView& fram
   const __m256 truncation = _mm256_set1_ps(config.truncation);
   const __m256 min_sdf = _mm256_set1_ps(-config.truncation);
   const __m256 max_weight = _mm256_set1_ps(config.max_weight);
+  const __m256 dropoff_start = _mm256_set1_ps(config.dropoff_start);
+  const __m256 dropoff_per_metre = _mm256_set1_ps(config.dropoff_per_metre);
+  const __m256 min_observation_weight = _mm256_set1_ps(kMinObservationWeight);
   const __m256i depth_stride = _mm256_set1_epi32(static_cast<int>(frame.depth_stride));
   const __m256i color_stride = _mm256_set1_epi32(static_cast<int>(frame.color_stride));
   const __m256i last_column = _mm256_set1_epi32(frame.width - 1);
@@ -294,10 +298,16 @@ SEMFUSE_AVX2 KernelCounts updateLeaf(const LeafPair& leaf, const FrameView& fram
       if (kGeometry) {
         const __m256 weight = halvesToFloats(_mm256_srli_epi32(bits.low, 16));
         const __m256 observed = _mm256_min_ps(sdf, truncation);
-        const __m256 new_weight = _mm256_add_ps(weight, one);
+        // observationWeight, in the same order of operations.
+        const __m256 observed_weight = _mm256_min_ps(
+            one,
+            _mm256_max_ps(min_observation_weight,
+                          _mm256_add_ps(one, _mm256_mul_ps(_mm256_add_ps(sdf, dropoff_start), dropoff_per_metre))));
+        const __m256 new_weight = _mm256_add_ps(weight, observed_weight);
         const __m256 inv_new_weight = _mm256_div_ps(one, new_weight);
         const __m256 old_tsdf = halvesToFloats(_mm256_and_si256(bits.low, low16));
-        const __m256 tsdf = _mm256_mul_ps(_mm256_add_ps(_mm256_mul_ps(old_tsdf, weight), observed), inv_new_weight);
+        const __m256 tsdf = _mm256_mul_ps(
+            _mm256_add_ps(_mm256_mul_ps(old_tsdf, weight), _mm256_mul_ps(observed, observed_weight)), inv_new_weight);
         const __m256i new_low = _mm256_or_si256(
             floatsToHalves(tsdf), _mm256_slli_epi32(floatsToHalves(_mm256_min_ps(new_weight, max_weight)), 16));
         bits.low = _mm256_blendv_epi8(bits.low, new_low, _mm256_castps_si256(update));
@@ -315,11 +325,13 @@ SEMFUSE_AVX2 KernelCounts updateLeaf(const LeafPair& leaf, const FrameView& fram
           PackedColor* color_column = colors + row_offset;
           const __m256i old = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(color_column));
           const __m256i r = blendChannel(_mm256_and_si256(_mm256_srli_epi32(old, 16), byte),
-                                         _mm256_and_si256(rgb, byte), weight, inv_new_weight);
-          const __m256i g = blendChannel(_mm256_and_si256(_mm256_srli_epi32(old, 8), byte),
-                                         _mm256_and_si256(_mm256_srli_epi32(rgb, 8), byte), weight, inv_new_weight);
-          const __m256i b = blendChannel(_mm256_and_si256(old, byte),
-                                         _mm256_and_si256(_mm256_srli_epi32(rgb, 16), byte), weight, inv_new_weight);
+                                         _mm256_and_si256(rgb, byte), weight, observed_weight, inv_new_weight);
+          const __m256i g =
+              blendChannel(_mm256_and_si256(_mm256_srli_epi32(old, 8), byte),
+                           _mm256_and_si256(_mm256_srli_epi32(rgb, 8), byte), weight, observed_weight, inv_new_weight);
+          const __m256i b =
+              blendChannel(_mm256_and_si256(old, byte), _mm256_and_si256(_mm256_srli_epi32(rgb, 16), byte), weight,
+                           observed_weight, inv_new_weight);
           // static_cast<uint8_t> of the scalar kernel keeps the low byte.
           const __m256i blended = _mm256_or_si256(_mm256_or_si256(_mm256_slli_epi32(_mm256_and_si256(r, byte), 16),
                                                                   _mm256_slli_epi32(_mm256_and_si256(g, byte), 8)),
