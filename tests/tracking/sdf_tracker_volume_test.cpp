@@ -50,8 +50,9 @@ std::unique_ptr<synthetic::RenderedView> VolumeTracking::truth_;
 
 // The analytic test's offsets, the last (10 degrees and 10 cm together) at 0.9 of its size: on
 // this fused map the basin's edge in that direction lies right there. At 1.05 times that offset
-// the alignment fails with or without the integrator's weight drop-off behind the surface; at 1.0
-// it passes without and fails with it, which says nothing about the tracker.
+// the alignment fails; at 1.0 it passes or fails with small changes in how the map is fused
+// (where the integrator's weight drop-off behind the surface starts), which says nothing about
+// the tracker.
 std::vector<RigidOffset> offsetsWithinTheMapsBasin() {
   std::vector<RigidOffset> offsets = offsetsToRecover();
   RigidOffset& hardest = offsets.back();
