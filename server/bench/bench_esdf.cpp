@@ -243,10 +243,8 @@ int runEsdfBench(const EsdfBenchOptions& options) {
 const bool esdf_registered = registerBench(
     "esdf", "distance field update, recompute, queries, slices and memory (7-Scenes frames)", [](CLI::App& command) {
       auto options = std::make_shared<EsdfBenchOptions>();
-      command.add_option("--data", options->data, "7-Scenes sequence folder")->capture_default_str();
+      addMapOptions(command, options->data, options->voxel, options->truncation, "0: 4 voxels");
       command.add_option("--frames", options->frames, "frames to integrate (from frame 0)")->capture_default_str();
-      command.add_option("--voxel", options->voxel, "voxel size, metres")->capture_default_str();
-      command.add_option("--trunc", options->truncation, "truncation, metres (0: 4 voxels)")->capture_default_str();
       command.add_option("--max-distance", options->max_distance, "the field's maximum distance, metres")
           ->capture_default_str();
       command

@@ -166,11 +166,9 @@ const bool map_updates_registered = registerBench(
     "map-updates", "the live mesh's cost: CPU, round time and bytes against the change (7-Scenes frames)",
     [](CLI::App& command) {
       auto options = std::make_shared<MapUpdatesOptions>();
-      command.add_option("--data", options->data, "7-Scenes sequence folder")->capture_default_str();
+      addMapOptions(command, options->data, options->voxel, options->truncation);
       command.add_option("--first", options->first, "first frame")->capture_default_str();
       command.add_option("--last", options->last, "last frame")->capture_default_str();
-      command.add_option("--voxel", options->voxel, "voxel size, metres")->capture_default_str();
-      command.add_option("--trunc", options->truncation, "truncation, metres")->capture_default_str();
       command.add_option("--input-rate", options->input_hz, "frames per second the cameras bring together")
           ->capture_default_str();
       command.add_option("--rate", options->rate, "update rounds per second")->capture_default_str();

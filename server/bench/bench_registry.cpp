@@ -19,4 +19,14 @@ bool registerBench(std::string name, std::string description, BenchSetup setup) 
 
 const std::vector<BenchRegistration>& registeredBenches() { return registry(); }
 
+void addMapOptions(CLI::App& command, std::string& data, double& voxel, double& truncation,
+                   const std::string& truncation_note) {
+  command.add_option("--data", data, "7-Scenes sequence folder")->capture_default_str();
+  command.add_option("--voxel", voxel, "voxel size, metres")->capture_default_str();
+  command
+      .add_option("--trunc", truncation,
+                  "truncation, metres" + (truncation_note.empty() ? std::string() : " (" + truncation_note + ")"))
+      ->capture_default_str();
+}
+
 }  // namespace semfuse::bench

@@ -32,4 +32,9 @@ struct BenchRegistration {
 bool registerBench(std::string name, std::string description, BenchSetup setup);
 const std::vector<BenchRegistration>& registeredBenches();
 
+// The options of every bench that fuses a 7-Scenes sequence into a map: --data (the sequence's
+// folder), --voxel and --trunc (metres; what 0 means, if anything, in `truncation_note`).
+void addMapOptions(CLI::App& command, std::string& data, double& voxel, double& truncation,
+                   const std::string& truncation_note = {});
+
 }  // namespace semfuse::bench

@@ -227,10 +227,8 @@ int runRenderBench(const RenderBenchOptions& options) {
 const bool render_registered =
     registerBench("render", "raycast and mesh speed on the 7-Scenes map", [](CLI::App& command) {
       auto options = std::make_shared<RenderBenchOptions>();
-      command.add_option("--data", options->data, "7-Scenes sequence folder")->capture_default_str();
+      addMapOptions(command, options->data, options->voxel, options->truncation);
       command.add_option("--frames", options->frames, "frames to integrate (from frame 0)")->capture_default_str();
-      command.add_option("--voxel", options->voxel, "voxel size, metres")->capture_default_str();
-      command.add_option("--trunc", options->truncation, "truncation, metres")->capture_default_str();
       command.add_option("--views", options->views, "raycast poses")->capture_default_str();
       command.add_option("--repeats", options->repeats, "timed runs per pose / mesh")->capture_default_str();
       command

@@ -290,10 +290,8 @@ int runVolumeBench(const VolumeBenchOptions& options) {
 const bool volume_registered = registerBench(
     "volume", "integration speed and memory of the labeled volume (7-Scenes frames)", [](CLI::App& command) {
       auto options = std::make_shared<VolumeBenchOptions>();
-      command.add_option("--data", options->data, "7-Scenes sequence folder")->capture_default_str();
+      addMapOptions(command, options->data, options->voxel, options->truncation);
       command.add_option("--frames", options->frames, "frames to integrate (from frame 0)")->capture_default_str();
-      command.add_option("--voxel", options->voxel, "voxel size, metres")->capture_default_str();
-      command.add_option("--trunc", options->truncation, "truncation, metres")->capture_default_str();
       command.add_option("--baseline-frames", options->baseline_frames, "frames for the single-thread baseline")
           ->capture_default_str();
       command.add_option("--kernel", options->kernel, "integration kernel: scalar or avx2 (default: widest available)");
