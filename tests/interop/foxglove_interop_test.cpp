@@ -220,8 +220,6 @@ const char* kOccupancyGrid =
 
 std::string str(const char* s) { return s ? s : ""; }
 
-}  // namespace
-
 TEST_F(FoxgloveInterop, StandardRosMessagesAgreeFieldForField) {
   roundTrip<sensor_msgs_msg_dds__Image_>("sensor_msgs/Image", kDepthImage, [](const sensor_msgs_msg_dds__Image_& m) {
     EXPECT_EQ(m.header.stamp.sec, 1700000000);
@@ -528,3 +526,5 @@ TEST_F(FoxgloveInterop, ServerIntegratesFramesFoxgloveSerialized) {
   EXPECT_GE(status->allocated_voxels, 1000u);  // the wall of the ROS frame
   EXPECT_EQ(h.stopServer(), 0);
 }
+
+}  // namespace

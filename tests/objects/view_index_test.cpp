@@ -10,8 +10,8 @@
 namespace semfuse::objects {
 namespace {
 
-constexpr double kVoxel = 0.04;
-constexpr double kLeaf = 8 * kVoxel;
+constexpr double kIndexVoxel = 0.04;
+constexpr double kLeaf = 8 * kIndexVoxel;
 const PinholeIntrinsics kCamera{160, 120, 131.25, 131.25, 79.5, 59.5};
 
 cv::Mat wall(float depth = 2.0f) { return cv::Mat(kCamera.height, kCamera.width, CV_32FC1, cv::Scalar(depth)); }
@@ -24,14 +24,14 @@ Pose shiftedAlongX(double x) {
 
 // The leaf holding the world point p.
 openvdb::Coord leafAt(const Eigen::Vector3d& p) {
-  const Eigen::Vector3d index = p / kVoxel;
+  const Eigen::Vector3d index = p / kIndexVoxel;
   return openvdb::Coord(static_cast<int>(std::floor(index.x() + 0.5)), static_cast<int>(std::floor(index.y() + 0.5)),
                         static_cast<int>(std::floor(index.z() + 0.5))) &
          ~7;
 }
 
 TEST(ViewIndex, AFrameSawTheLeavesOfTheWallInItsViewAndNoOthers) {
-  ViewIndex views(kVoxel);
+  ViewIndex views(kIndexVoxel);
   views.record("cam", 7, wall(), kCamera, Pose::Identity(), 0.1f, 5.0f);
   EXPECT_EQ(views.frameCount(), 1u);
   uint32_t total = 0;
@@ -52,7 +52,7 @@ TEST(ViewIndex, AFrameSawTheLeavesOfTheWallInItsViewAndNoOthers) {
 }
 
 TEST(ViewIndex, FramesThatSawMoreOfTheLeavesComeFirstThenNewerOnes) {
-  ViewIndex views(kVoxel);
+  ViewIndex views(kIndexVoxel);
   // Frame 1 sees x in [-1, 1] of the wall, frame 2 the same shifted 1.5 m right, frame 3 as 1.
   views.record("a", 1, wall(), kCamera, shiftedAlongX(0.0), 0.1f, 5.0f);
   views.record("b", 2, wall(), kCamera, shiftedAlongX(1.5), 0.1f, 5.0f);
@@ -73,7 +73,7 @@ TEST(ViewIndex, FramesThatSawMoreOfTheLeavesComeFirstThenNewerOnes) {
 }
 
 TEST(ViewIndex, ALeafRemembersItsLatestSixteenFrames) {
-  ViewIndex views(kVoxel);
+  ViewIndex views(kIndexVoxel);
   for (uint64_t seq = 0; seq < 20; ++seq) views.record("cam", seq, wall(), kCamera, Pose::Identity(), 0.1f, 5.0f);
   uint32_t total = 0;
   const std::vector<FrameRef> frames = views.framesSeeing({leafAt({0.0, 0.0, 2.0})}, 32, total);
@@ -83,7 +83,7 @@ TEST(ViewIndex, ALeafRemembersItsLatestSixteenFrames) {
 }
 
 TEST(ViewIndex, DepthOutsideTheRangeIsNotSeenAndClearForgetsEverything) {
-  ViewIndex views(kVoxel);
+  ViewIndex views(kIndexVoxel);
   const uint64_t empty = views.version();
   views.record("cam", 1, wall(2.0f), kCamera, Pose::Identity(), 0.1f, 1.5f);  // beyond max depth
   uint32_t total = 0;
@@ -100,7 +100,7 @@ TEST(ViewIndex, DepthOutsideTheRangeIsNotSeenAndClearForgetsEverything) {
 }
 
 TEST(ViewIndex, AFrameOfTheWrongDepthTypeRecordsNothing) {
-  ViewIndex views(kVoxel);
+  ViewIndex views(kIndexVoxel);
   const cv::Mat millimetres(kCamera.height, kCamera.width, CV_16UC1, cv::Scalar(2000));
   views.record("cam", 1, millimetres, kCamera, Pose::Identity(), 0.1f, 5.0f);
   EXPECT_EQ(views.frameCount(), 0u);

@@ -22,16 +22,16 @@ using namespace std::chrono_literals;
 
 namespace {
 
-constexpr int kFrames = 30;
-constexpr double kVoxel = 0.05;
+constexpr int kRoomFrames = 30;
+constexpr double kRoomVoxel = 0.05;
 
 std::vector<std::string> esdfServerArgs() {
   return {"--legend",
           "synthetic",
           "--voxel-size",
-          std::to_string(kVoxel),
+          std::to_string(kRoomVoxel),
           "--truncation",
-          std::to_string(2 * kVoxel),
+          std::to_string(2 * kRoomVoxel),
           "--autosave-period",
           "0",
           "--queue-per-camera",
@@ -59,10 +59,10 @@ TEST(DistanceEndToEnd, ServesTheDistanceFieldAndPublishesTheOccupancyGrid) {
 
   synthetic::SequenceConfig config;
   config.intrinsics = config.intrinsics.scaled(0.5);
-  config.trajectory.frame_count = kFrames;
+  config.trajectory.frame_count = kRoomFrames;
   config.camera_id = "cam0";
   synthetic::SyntheticSequence sequence(config);
-  for (int i = 0; i < kFrames; ++i) {
+  for (int i = 0; i < kRoomFrames; ++i) {
     auto both = sequence.frameWithGroundTruth(i);
     ASSERT_TRUE(both.ok()) << both.error();
     auto frame = wire::encodeFrame(both.value().first);
@@ -73,7 +73,7 @@ TEST(DistanceEndToEnd, ServesTheDistanceFieldAndPublishesTheOccupancyGrid) {
     ASSERT_TRUE(segmentation.ok());
     ASSERT_TRUE(h.segmentations().write(segmentation.value().msg()).ok());
   }
-  h.waitStatus([](const auto& s) { return s.segmentations_integrated == kFrames; }, 30s);
+  h.waitStatus([](const auto& s) { return s.segmentations_integrated == kRoomFrames; }, 30s);
 
   // The field follows the map on its own thread: wait until it reflects the last frame. Covering
   // the point is not enough (the last frames' labels may still be on their way into the field);
@@ -96,7 +96,7 @@ TEST(DistanceEndToEnd, ServesTheDistanceFieldAndPublishesTheOccupancyGrid) {
   }
   ASSERT_TRUE(distances) << distances.error();
   ASSERT_TRUE(distances.value()[0].known);
-  EXPECT_NEAR(distances.value()[0].distance, 0.25, 1.5 * kVoxel);
+  EXPECT_NEAR(distances.value()[0].distance, 0.25, 1.5 * kRoomVoxel);
   EXPECT_GT(distances.value()[0].gradient.z(), 0.8f);
   // Thousands of points in one call; above the ceiling nobody looked.
   std::vector<Eigen::Vector3d> many(5000, above_table);
@@ -123,12 +123,12 @@ TEST(DistanceEndToEnd, ServesTheDistanceFieldAndPublishesTheOccupancyGrid) {
   auto table = map.semanticDistances({synthetic::labels::kTable}, {over_table}, 10s);
   ASSERT_TRUE(table) << table.error();
   ASSERT_TRUE(table.value()[0].found);
-  EXPECT_NEAR(table.value()[0].distance, 0.5, 1.5 * kVoxel);
+  EXPECT_NEAR(table.value()[0].distance, 0.5, 1.5 * kRoomVoxel);
   EXPECT_LT(table.value()[0].direction.z(), -0.9f);
   auto table_slice = map.semanticSlice({{synthetic::labels::kTable}, 1.25, {-1.0, -1.0}, {1.0, 1.0}, 0.1}, 10s);
   ASSERT_TRUE(table_slice) << table_slice.error();
   EXPECT_EQ(table_slice.value().distance.size(), cv::Size(20, 20));
-  EXPECT_NEAR(table_slice.value().distance.at<float>(11, 12), 0.5, 1.5 * kVoxel);
+  EXPECT_NEAR(table_slice.value().distance.at<float>(11, 12), 0.5, 1.5 * kRoomVoxel);
 
   auto segments =
       map.checkSegments({{{0.2, -0.6, 1.0}, {0.2, 0.8, 0.5}}, {{-1.6, -1.0, 1.0}, {-1.6, 0.5, 1.0}}}, 0.0, 10s);
@@ -141,16 +141,16 @@ TEST(DistanceEndToEnd, ServesTheDistanceFieldAndPublishesTheOccupancyGrid) {
   // answers queries between the slices of an update, so the queries above do not wait for the
   // last update to end: the grid on the topic may still be one from before it.
   auto published = occupancy.waitForGrid(10s);
-  for (int tries = 0; tries < 100 && published && published->width * kVoxel < 5.0; ++tries) {
+  for (int tries = 0; tries < 100 && published && published->width * kRoomVoxel < 5.0; ++tries) {
     std::this_thread::sleep_for(100ms);
     published = occupancy.latest();
   }
   ASSERT_TRUE(published.has_value());
   EXPECT_EQ(published->frame_id, "map");
-  EXPECT_FLOAT_EQ(static_cast<float>(published->resolution), static_cast<float>(kVoxel));  // float32 on the wire
+  EXPECT_FLOAT_EQ(static_cast<float>(published->resolution), static_cast<float>(kRoomVoxel));  // float32 on the wire
   EXPECT_NEAR(published->z, 0.375, 1e-9);
-  EXPECT_GE(published->width * kVoxel, 5.0);
-  EXPECT_GE(published->height * kVoxel, 4.0);
+  EXPECT_GE(published->width * kRoomVoxel, 5.0);
+  EXPECT_GE(published->height * kRoomVoxel, 4.0);
   EXPECT_EQ(published->cells.size(), static_cast<std::size_t>(published->width) * published->height);
   EXPECT_EQ(occupancy.rejected(), 0u);
 

@@ -24,7 +24,7 @@ namespace {
 using namespace std::chrono_literals;
 constexpr double kVoxel = 0.05;
 
-MapperOptions roomOptions() {
+MapperOptions esdfRoomOptions() {
   MapperOptions options;
   options.volume.voxel_size = kVoxel;
   options.volume.truncation = 2 * kVoxel;
@@ -37,7 +37,7 @@ MapperOptions roomOptions() {
 
 // The room seen along a 24-frame orbit with ground-truth labels, and its field.
 struct Room {
-  Mapper mapper{roomOptions()};
+  Mapper mapper{esdfRoomOptions()};
   std::unique_ptr<DistanceField> field;
   Room() {
     esdf::EsdfParams params;

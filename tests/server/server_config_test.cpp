@@ -48,8 +48,6 @@ class ServerConfigTest : public ::testing::Test {
   fs::path folder_;
 };
 
-}  // namespace
-
 TEST_F(ServerConfigTest, DefaultsAreTheLibrariesOwnAndTheReadmesBayesRule) {
   ServerConfig config;
   auto app = parsedApp(config, "");
@@ -225,3 +223,5 @@ TEST_F(ServerConfigTest, TheMaximumQueueWaitIsSecondsWithinAMinute) {
     EXPECT_THROW(parsedApp(config, std::string("--max-queue-wait ") + bad), CLI::ParseError) << bad;
   }
 }
+
+}  // namespace

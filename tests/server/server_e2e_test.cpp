@@ -93,8 +93,6 @@ class ServerEndToEnd : public ::testing::Test {
   std::filesystem::path dir_;
 };
 
-}  // namespace
-
 TEST_F(ServerEndToEnd, FusesLateSegmentationsAnswersQueriesAndResumesAfterRestart) {
   const std::filesystem::path map = dir_ / "map.vdb";
   ServerHarness h(serverTestDomain());
@@ -426,8 +424,6 @@ TEST_F(ServerEndToEnd, ServiceFailuresReachTheClientLibraryWithTheirCodes) {
   EXPECT_EQ(too_large.errorCode(), ErrorCode::kTooLarge) << too_large.error();
   EXPECT_TRUE(h.serverRunning());
 }
-
-namespace {
 
 // The top-5 label rules keep runners-up as 10-bit ids: a legend with a larger id is refused at
 // startup (with the rule that would work) instead of losing those labels' evidence silently.

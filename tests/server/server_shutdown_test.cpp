@@ -25,7 +25,7 @@ using namespace std::chrono_literals;
 
 namespace {
 
-constexpr double kVoxel = 0.02;
+constexpr double kShutdownMapVoxel = 0.02;
 
 double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -35,8 +35,8 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
 // parameters the server below runs with.
 void writeSlowMap(const std::filesystem::path& path, int side) {
   volume::VolumeParams params;
-  params.voxel_size = kVoxel;
-  params.truncation = 4 * kVoxel;
+  params.voxel_size = kShutdownMapVoxel;
+  params.truncation = 4 * kShutdownMapVoxel;
   params.label_rule = volume::LabelRule::kBayes;
   volume::LabeledVolume map(params);
   const openvdb::CoordBBox block(openvdb::Coord(0), openvdb::Coord(side - 1));
@@ -73,8 +73,8 @@ TEST(ServerShutdown, AnAdminCommandDuringTheStopIsAnsweredPromptlyAndTheServerEx
   writeSlowMap(slow_map, 192);
 
   ServerHarness h(serverTestDomain());
-  h.startServer({"--legend", "synthetic", "--voxel-size", std::to_string(kVoxel), "--truncation",
-                 std::to_string(4 * kVoxel), "--label-rule", "bayes", "--autosave-period", "0"});
+  h.startServer({"--legend", "synthetic", "--voxel-size", std::to_string(kShutdownMapVoxel), "--truncation",
+                 std::to_string(4 * kShutdownMapVoxel), "--label-rule", "bayes", "--autosave-period", "0"});
   client::MapClient loader(h.participant());
   client::MapClient resetter(h.participant());
   ASSERT_TRUE(loader.stats(30s).ok());

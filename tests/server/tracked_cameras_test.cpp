@@ -26,7 +26,7 @@ using namespace std::chrono_literals;
 
 namespace {
 
-constexpr double kVoxel = 0.02;
+constexpr double kTrackedMapVoxel = 0.02;
 
 synthetic::SequenceConfig sequenceConfig(const std::string& camera_id) {
   synthetic::SequenceConfig config;
@@ -79,14 +79,12 @@ class TrackedCameras : public ::testing::Test {
   std::filesystem::path dir_;
 };
 
-}  // namespace
-
 TEST_F(TrackedCameras, ASecondCameraWithoutPoseJoinsTheMapAndTheTrajectoryIsRecorded) {
   const dds_domainid_t domain = serverTestDomain();
   ServerHarness h(domain);
-  h.startServer({"--legend", "synthetic", "--voxel-size", std::to_string(kVoxel), "--truncation",
-                 std::to_string(4 * kVoxel), "--autosave-period", "0", "--queue-per-camera", "64", "--max-queue-wait",
-                 "0"});
+  h.startServer({"--legend", "synthetic", "--voxel-size", std::to_string(kTrackedMapVoxel), "--truncation",
+                 std::to_string(4 * kTrackedMapVoxel), "--autosave-period", "0", "--queue-per-camera", "64",
+                 "--max-queue-wait", "0"});
   const std::filesystem::path trajectory = dir_ / "poses.csv";
   ChildProcess recorder({SEMFUSE_QUERY_EXE, "--domain-id", std::to_string(domain), "--dds-profile", loopbackProfile(),
                          "--log-level", "warn", "poses", "--out", trajectory.string(), "--format", "csv",
@@ -155,3 +153,5 @@ TEST_F(TrackedCameras, ASecondCameraWithoutPoseJoinsTheMapAndTheTrajectoryIsReco
   EXPECT_EQ(integrated["a"], 60);
   EXPECT_EQ(static_cast<uint64_t>(integrated["b"]), cameras["b"]->frames_integrated);
 }
+
+}  // namespace

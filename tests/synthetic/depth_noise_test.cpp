@@ -11,11 +11,11 @@
 namespace semfuse::synthetic {
 namespace {
 
-const PinholeIntrinsics kCamera{640, 480, 525.0, 525.0, 319.5, 239.5};
+const PinholeIntrinsics kSensorCamera{640, 480, 525.0, 525.0, 319.5, 239.5};
 
 // Frontal view of the +x wall from 2 m: every pixel is wall at depth 2.0, incidence up to ~31 deg.
 RenderedView frontalWall() {
-  return renderView(makeRoom(), kCamera, lookAt({0.5, -0.8, 1.4}, {2.5, -0.8, 1.4})).value();
+  return renderView(makeRoom(), kSensorCamera, lookAt({0.5, -0.8, 1.4}, {2.5, -0.8, 1.4})).value();
 }
 
 DepthNoiseParams gaussianOnly() {
@@ -71,7 +71,7 @@ TEST(DepthNoise, DropoutsRandomAndAtGrazingAngles) {
 
   // A low camera looking along the floor sees it at grazing angles: those pixels disappear.
   DepthNoiseParams grazing = gaussianOnly();
-  const RenderedView low = renderView(makeRoom(), kCamera, lookAt({-2.0, -1.2, 0.25}, {2.4, -1.2, 0.2})).value();
+  const RenderedView low = renderView(makeRoom(), kSensorCamera, lookAt({-2.0, -1.2, 0.25}, {2.4, -1.2, 0.2})).value();
   const cv::Mat noisy = applyDepthNoise(low, grazing, 11);
   int floor_far = 0, floor_far_kept = 0;
   for (int u = 0; u < 640; ++u) {

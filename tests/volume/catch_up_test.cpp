@@ -3,6 +3,8 @@
 // bayes rule's label candidates, instances, observed free space), with the same revisions.
 #include <gtest/gtest.h>
 
+#include "grid_compare.hpp"
+
 #include "semfuse/volume/free_space.hpp"
 #include "semfuse/volume/instance_integration.hpp"
 #include "semfuse/volume/integrator.hpp"
@@ -10,7 +12,9 @@
 namespace semfuse::volume {
 namespace {
 
-const PinholeIntrinsics kCamera{160, 120, 131.25, 131.25, 79.5, 59.5};
+using semfuse::testing::expectSameGrid;
+
+const PinholeIntrinsics kRoomCamera{160, 120, 131.25, 131.25, 79.5, 59.5};
 
 VolumeParams roomParams() {
   VolumeParams params;
@@ -30,43 +34,22 @@ struct View {
 };
 View viewAt(double x, float depth) {
   View v;
-  v.depth = cv::Mat(kCamera.height, kCamera.width, CV_32FC1, cv::Scalar(depth));
+  v.depth = cv::Mat(kRoomCamera.height, kRoomCamera.width, CV_32FC1, cv::Scalar(depth));
   v.depth(cv::Rect(60, 40, 40, 40)).setTo(depth - 0.3f);
-  v.color = cv::Mat(kCamera.height, kCamera.width, CV_8UC3);
-  for (int c = 0; c < kCamera.width; ++c) v.color.col(c).setTo(cv::Scalar(c, 255 - c, 128));
-  v.labels = cv::Mat(kCamera.height, kCamera.width, CV_16UC1, cv::Scalar(1));
+  v.color = cv::Mat(kRoomCamera.height, kRoomCamera.width, CV_8UC3);
+  for (int c = 0; c < kRoomCamera.width; ++c) v.color.col(c).setTo(cv::Scalar(c, 255 - c, 128));
+  v.labels = cv::Mat(kRoomCamera.height, kRoomCamera.width, CV_16UC1, cv::Scalar(1));
   v.labels(cv::Rect(60, 40, 40, 40)).setTo(3);
-  v.instances = cv::Mat(kCamera.height, kCamera.width, CV_16UC1, cv::Scalar(0));
+  v.instances = cv::Mat(kRoomCamera.height, kRoomCamera.width, CV_16UC1, cv::Scalar(0));
   v.instances(cv::Rect(60, 40, 40, 40)).setTo(7);
   v.pose.translation() = Eigen::Vector3d(x, 0.0, 0.0);
   return v;
 }
 
 void fuse(LabeledVolume& volume, const View& v) {
-  ASSERT_TRUE(integrate(volume, v.depth, v.color, v.labels, cv::Mat(), kCamera, v.pose).ok());
-  ASSERT_TRUE(integrateInstances(volume, v.depth, v.labels, v.instances, kCamera, v.pose).ok());
-  ASSERT_TRUE(observeFreeSpace(volume, v.depth, kCamera, v.pose).ok());
-}
-
-// Same active voxels with the same values, and the same inactive values in every leaf.
-template <class Grid>
-void expectSameGrid(const Grid* a, const Grid* b, const char* name) {
-  ASSERT_EQ(a == nullptr, b == nullptr) << name;
-  if (!a) return;
-  EXPECT_EQ(a->tree().leafCount(), b->tree().leafCount()) << name;
-  EXPECT_EQ(a->tree().activeVoxelCount(), b->tree().activeVoxelCount()) << name;
-  openvdb::tree::ValueAccessor<const typename Grid::TreeType> other(b->tree());
-  std::size_t differ = 0;
-  for (auto leaf = a->tree().cbeginLeaf(); leaf; ++leaf) {
-    const auto* twin = other.probeConstLeaf(leaf->origin());
-    if (!twin || twin->getValueMask() != leaf->getValueMask()) {
-      ++differ;
-      continue;
-    }
-    for (openvdb::Index n = 0; n < Grid::TreeType::LeafNodeType::SIZE; ++n)
-      differ += !(twin->getValue(n) == leaf->getValue(n));
-  }
-  EXPECT_EQ(differ, 0u) << name;
+  ASSERT_TRUE(integrate(volume, v.depth, v.color, v.labels, cv::Mat(), kRoomCamera, v.pose).ok());
+  ASSERT_TRUE(integrateInstances(volume, v.depth, v.labels, v.instances, kRoomCamera, v.pose).ok());
+  ASSERT_TRUE(observeFreeSpace(volume, v.depth, kRoomCamera, v.pose).ok());
 }
 
 void expectSameVolume(const LabeledVolume& a, const LabeledVolume& b) {

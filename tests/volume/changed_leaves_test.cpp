@@ -15,7 +15,7 @@
 namespace semfuse::volume {
 namespace {
 
-const PinholeIntrinsics kCamera{160, 120, 131.25, 131.25, 79.5, 59.5};
+const PinholeIntrinsics kWallCamera{160, 120, 131.25, 131.25, 79.5, 59.5};
 
 VolumeParams wallParams() {
   VolumeParams params;
@@ -32,7 +32,7 @@ Pose cameraAt(double x) {
   pose.translation() = Eigen::Vector3d(x, 0.0, 0.0);
   return pose;
 }
-cv::Mat wall(float depth) { return cv::Mat(kCamera.height, kCamera.width, CV_32FC1, cv::Scalar(depth)); }
+cv::Mat wall(float depth) { return cv::Mat(kWallCamera.height, kWallCamera.width, CV_32FC1, cv::Scalar(depth)); }
 
 using Origins = std::set<std::tuple<int, int, int>>;
 Origins originsOf(const std::vector<openvdb::Coord>& leaves) {
@@ -53,7 +53,7 @@ TEST(ChangedLeaves, EveryWriteStampsTheLeavesItTouched) {
   EXPECT_FALSE(volume.changesSince(0).all);
   EXPECT_TRUE(volume.changesSince(0).leaves.empty());
 
-  auto first = integrate(volume, wall(1.5f), cv::Mat(), kCamera, cameraAt(0.0));
+  auto first = integrate(volume, wall(1.5f), cv::Mat(), kWallCamera, cameraAt(0.0));
   ASSERT_TRUE(first.ok()) << first.error();
   EXPECT_EQ(volume.revision(), 1u);
   const auto after_first = volume.changesSince(0);
@@ -63,7 +63,7 @@ TEST(ChangedLeaves, EveryWriteStampsTheLeavesItTouched) {
   EXPECT_EQ(originsOf(after_first.leaves), geometryLeaves(volume));
 
   // A second view 1 m to the side: only the leaves it touched are new since revision 1.
-  auto second = integrate(volume, wall(1.5f), cv::Mat(), kCamera, cameraAt(1.0));
+  auto second = integrate(volume, wall(1.5f), cv::Mat(), kWallCamera, cameraAt(1.0));
   ASSERT_TRUE(second.ok());
   const auto after_second = volume.changesSince(1);
   EXPECT_EQ(after_second.leaves.size(), second.value().leaves_touched);
@@ -71,9 +71,9 @@ TEST(ChangedLeaves, EveryWriteStampsTheLeavesItTouched) {
   EXPECT_TRUE(volume.changesSince(2).leaves.empty());
 
   // A late label pass stamps the leaves whose labels it may change, and allocates none.
-  const cv::Mat labels(kCamera.height, kCamera.width, CV_16UC1, cv::Scalar(4));
+  const cv::Mat labels(kWallCamera.height, kWallCamera.width, CV_16UC1, cv::Scalar(4));
   const std::size_t leaves = volume.allocatedLeaves();
-  ASSERT_TRUE(integrateLabels(volume, wall(1.5f), labels, cv::Mat(), kCamera, cameraAt(0.0)).ok());
+  ASSERT_TRUE(integrateLabels(volume, wall(1.5f), labels, cv::Mat(), kWallCamera, cameraAt(0.0)).ok());
   EXPECT_EQ(volume.allocatedLeaves(), leaves);
   EXPECT_EQ(volume.changesSince(2).leaves.size(), first.value().leaves_touched);
 
@@ -89,7 +89,7 @@ TEST(ChangedLeaves, EveryWriteStampsTheLeavesItTouched) {
 
 TEST(ChangedLeaves, ClearAndLoadChangeEverything) {
   LabeledVolume volume(wallParams());
-  ASSERT_TRUE(integrate(volume, wall(1.5f), cv::Mat(), kCamera, cameraAt(0.0)).ok());
+  ASSERT_TRUE(integrate(volume, wall(1.5f), cv::Mat(), kWallCamera, cameraAt(0.0)).ok());
   const uint64_t before = volume.revision();
   volume.clear();
   EXPECT_GT(volume.revision(), before);
@@ -98,8 +98,8 @@ TEST(ChangedLeaves, ClearAndLoadChangeEverything) {
   EXPECT_TRUE(cleared.leaves.empty());
   EXPECT_FALSE(volume.changesSince(volume.revision()).all);
 
-  ASSERT_TRUE(integrate(volume, wall(1.5f), cv::Mat(), kCamera, cameraAt(0.0)).ok());
-  ASSERT_TRUE(observeFreeSpace(volume, wall(1.5f), kCamera, cameraAt(0.0)).ok());
+  ASSERT_TRUE(integrate(volume, wall(1.5f), cv::Mat(), kWallCamera, cameraAt(0.0)).ok());
+  ASSERT_TRUE(observeFreeSpace(volume, wall(1.5f), kWallCamera, cameraAt(0.0)).ok());
   const auto folder = std::filesystem::temp_directory_path() / ("semfuse_changed_" + std::to_string(::getpid()));
   std::filesystem::create_directories(folder);
   ASSERT_TRUE(saveMap(volume, LabelLegend{}, folder / "map.vdb").ok());
@@ -125,7 +125,7 @@ TEST(ChangedLeaves, ClearAndLoadChangeEverything) {
 TEST(FreeSpace, AFrameSeesTheSpaceInFrontOfItsBandAndNothingElse) {
   LabeledVolume volume(wallParams());
   const float depth = 1.5f;
-  auto stats = observeFreeSpace(volume, wall(depth), kCamera, cameraAt(0.0));
+  auto stats = observeFreeSpace(volume, wall(depth), kWallCamera, cameraAt(0.0));
   ASSERT_TRUE(stats.ok()) << stats.error();
   EXPECT_GT(stats.value().new_free_leaves, 0u);
   const double h = volume.voxelSize(), truncation = volume.params().truncation;
@@ -139,14 +139,14 @@ TEST(FreeSpace, AFrameSeesTheSpaceInFrontOfItsBandAndNothingElse) {
       // In front of the camera, inside its view, nearer than the wall minus the truncation.
       ASSERT_GT(p.z(), 0.0);
       ASSERT_LT(p.z(), depth - truncation) << p.transpose();
-      ASSERT_LE(std::abs(kCamera.fx * p.x() / p.z()), kCamera.width / 2.0 + 1);
-      ASSERT_LE(std::abs(kCamera.fy * p.y() / p.z()), kCamera.height / 2.0 + 1);
+      ASSERT_LE(std::abs(kWallCamera.fx * p.x() / p.z()), kWallCamera.width / 2.0 + 1);
+      ASSERT_LE(std::abs(kWallCamera.fy * p.y() / p.z()), kWallCamera.height / 2.0 + 1);
     }
   }
   // Most of the frustum in front of the band is seen: its volume is about
   // (depth - truncation)^3 * (w / f) * (h / f) / 3.
-  const double frustum = std::pow(depth - truncation, 3) * (kCamera.width / kCamera.fx) *
-                         (kCamera.height / kCamera.fy) / 3.0 / (h * h * h);
+  const double frustum = std::pow(depth - truncation, 3) * (kWallCamera.width / kWallCamera.fx) *
+                         (kWallCamera.height / kWallCamera.fy) / 3.0 / (h * h * h);
   EXPECT_GT(free_voxels, 0.8 * frustum);
   EXPECT_LT(free_voxels, 1.05 * frustum);
   // Behind the wall, and beside the frustum, nothing.
@@ -156,7 +156,7 @@ TEST(FreeSpace, AFrameSeesTheSpaceInFrontOfItsBandAndNothingElse) {
   EXPECT_TRUE(volume.observedFree(volume.worldToIndex({0.0, 0.0, 1.0})));
   // The same frame again adds nothing; the regions were stamped once.
   const uint64_t revision = volume.revision();
-  auto again = observeFreeSpace(volume, wall(depth), kCamera, cameraAt(0.0));
+  auto again = observeFreeSpace(volume, wall(depth), kWallCamera, cameraAt(0.0));
   ASSERT_TRUE(again.ok());
   EXPECT_EQ(again.value().new_free_leaves + again.value().new_free_voxels, 0u);
   EXPECT_EQ(volume.revision(), revision);
@@ -164,15 +164,15 @@ TEST(FreeSpace, AFrameSeesTheSpaceInFrontOfItsBandAndNothingElse) {
 
 TEST(FreeSpace, InvalidDepthSeesNothingAndBadInputIsRefused) {
   LabeledVolume volume(wallParams());
-  auto none = observeFreeSpace(volume, wall(0.0f), kCamera, cameraAt(0.0));
+  auto none = observeFreeSpace(volume, wall(0.0f), kWallCamera, cameraAt(0.0));
   ASSERT_TRUE(none.ok());
   EXPECT_EQ(none.value().new_free_leaves + none.value().new_free_voxels, 0u);
-  EXPECT_FALSE(observeFreeSpace(volume, cv::Mat(3, 3, CV_32FC1, cv::Scalar(1.0f)), kCamera, cameraAt(0.0)).ok());
+  EXPECT_FALSE(observeFreeSpace(volume, cv::Mat(3, 3, CV_32FC1, cv::Scalar(1.0f)), kWallCamera, cameraAt(0.0)).ok());
   Pose sheared = cameraAt(0.0);
   sheared.linear()(0, 1) = 0.5;
-  EXPECT_FALSE(observeFreeSpace(volume, wall(1.0f), kCamera, sheared).ok());
+  EXPECT_FALSE(observeFreeSpace(volume, wall(1.0f), kWallCamera, sheared).ok());
   EXPECT_EQ(volume.revision(), 0u);
-  EXPECT_FALSE(observeFreeSpace(volume, wall(1.0f), kCamera, cameraAt(0.0), 0).ok());
+  EXPECT_FALSE(observeFreeSpace(volume, wall(1.0f), kWallCamera, cameraAt(0.0), 0).ok());
 }
 
 // With a sample stride, a voxel whose coordinates are all multiples of it is free exactly when it
@@ -181,8 +181,8 @@ TEST(FreeSpace, ASampleStrideMarksTheSameVoxelsAtItsSamplesAndNoOthers) {
   constexpr int kStride = 3;  // not a divisor of 8: samples fall at every offset in some leaf
   LabeledVolume full(wallParams()), sampled(wallParams());
   for (double x : {0.0, 0.3}) {
-    ASSERT_TRUE(observeFreeSpace(full, wall(1.5f), kCamera, cameraAt(x)).ok());
-    ASSERT_TRUE(observeFreeSpace(sampled, wall(1.5f), kCamera, cameraAt(x), kStride).ok());
+    ASSERT_TRUE(observeFreeSpace(full, wall(1.5f), kWallCamera, cameraAt(x)).ok());
+    ASSERT_TRUE(observeFreeSpace(sampled, wall(1.5f), kWallCamera, cameraAt(x), kStride).ok());
   }
   const openvdb::CoordBBox box = full.freeSpaceGrid()->evalActiveVoxelBoundingBox();
   ASSERT_GT(box.volume(), 100000u);

@@ -11,11 +11,15 @@
 
 #include <gtest/gtest.h>
 
+#include "grid_compare.hpp"
+
 #include "analytic_scene.hpp"
 #include "semfuse/volume/integrator.hpp"
 
 namespace semfuse::volume {
 namespace {
+
+using semfuse::testing::expectSameGrid;
 using testing::lookAt;
 using testing::smallCamera;
 
@@ -122,25 +126,6 @@ KernelRun integrateWith(IntegrationKernel kernel, const VolumeParams& params, co
     }
   }
   return run;
-}
-
-// Every leaf of `a` exists in `b` with the same values and active mask, and vice versa.
-template <typename Grid>
-void expectSameGrid(const Grid* a, const Grid* b, const char* what) {
-  ASSERT_EQ(a == nullptr, b == nullptr) << what;
-  if (!a) return;
-  ASSERT_EQ(a->tree().leafCount(), b->tree().leafCount()) << what;
-  std::size_t differing = 0;
-  for (auto leaf = a->tree().cbeginLeaf(); leaf; ++leaf) {
-    const auto* other = b->tree().probeConstLeaf(leaf->origin());
-    ASSERT_NE(other, nullptr) << what << ": leaf " << leaf->origin() << " missing";
-    EXPECT_EQ(leaf->getValueMask(), other->getValueMask()) << what << ": active mask of leaf " << leaf->origin();
-    for (openvdb::Index i = 0; i < leaf->SIZE; ++i)
-      if (leaf->getValue(i) != other->getValue(i) && ++differing <= 5)
-        ADD_FAILURE() << what << ": voxel " << leaf->offsetToGlobalCoord(i) << " " << leaf->getValue(i) << " vs "
-                      << other->getValue(i);
-  }
-  EXPECT_EQ(differing, 0u) << what;
 }
 
 void expectSameRuns(const KernelRun& scalar, const KernelRun& wide) {

@@ -8,6 +8,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include "percent_text.hpp"
+
 namespace semfuse::eval {
 namespace {
 namespace fs = std::filesystem;
@@ -27,12 +29,6 @@ const char* kindName(LabelSourceKind kind) {
       return "deeplab";
   }
   return "unknown";
-}
-
-std::string percent(double fraction) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.1f%%", 100.0 * fraction);
-  return text;
 }
 
 std::string fixed(double value, int digits = 4) {

@@ -7,6 +7,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "percent_text.hpp"
 #include "semfuse/objects/grouping.hpp"
 #include "semfuse/objects/object_figures.hpp"
 #include "semfuse/objects/object_registry.hpp"
@@ -25,12 +26,6 @@ constexpr double kTruthDistanceVoxels = 2.0;
 const LabelLegend& syntheticLegend() {
   static const LabelLegend legend = *builtinLegend("synthetic");
   return legend;
-}
-
-std::string percent(double share) {
-  std::ostringstream out;
-  out << std::fixed << std::setprecision(1) << 100.0 * share << "%";
-  return out.str();
 }
 
 struct Query {

@@ -7,8 +7,6 @@
 namespace semfuse::objects::detail {
 namespace {
 
-constexpr int kDim = static_cast<int>(GeometryLeaf::DIM);
-
 // The TSDF of an observed voxel, NaN for an unobserved one.
 float tsdfOrNaN(volume::PackedVoxel v) {
   return volume::isObserved(v) ? volume::detail::halfValueBranchless(volume::detail::asBits(v))
@@ -48,29 +46,29 @@ int ownedCrossings(float t, float minus, float plus) {
 // that loading a row of the leaf is a contiguous copy.
 class LeafScanner::Brick {
  public:
-  static constexpr int kSide = kDim + 2;
+  static constexpr int kSide = kLeafDim + 2;
 
   void load(const volume::GeometryGrid::TreeType& tree, const GeometryLeaf& leaf) {
     values_.fill(std::numeric_limits<float>::quiet_NaN());
     const volume::PackedVoxel* own = leaf.buffer().data();
-    for (int x = 0; x < kDim; ++x)
-      for (int y = 0; y < kDim; ++y) {
+    for (int x = 0; x < kLeafDim; ++x)
+      for (int y = 0; y < kLeafDim; ++y) {
         float* row = &at(x, y, 0);
         const volume::PackedVoxel* from = own + ((x << 6) | (y << 3));
-        for (int z = 0; z < kDim; ++z) row[z] = tsdfOrNaN(from[z]);
+        for (int z = 0; z < kLeafDim; ++z) row[z] = tsdfOrNaN(from[z]);
       }
     const openvdb::Coord origin = leaf.origin();
     for (int axis = 0; axis < 3; ++axis)
       for (int side : {-1, 1}) {
         openvdb::Coord neighbour_origin = origin;
-        neighbour_origin[axis] += side * kDim;
+        neighbour_origin[axis] += side * kLeafDim;
         const GeometryLeaf* neighbour = tree.probeConstLeaf(neighbour_origin);
         if (!neighbour) continue;
         const volume::PackedVoxel* values = neighbour->buffer().data();
-        const int from = side < 0 ? kDim - 1 : 0;  // the neighbour's layer that touches this leaf
-        const int to = side < 0 ? -1 : kDim;
-        for (int a = 0; a < kDim; ++a)
-          for (int b = 0; b < kDim; ++b) {
+        const int from = side < 0 ? kLeafDim - 1 : 0;  // the neighbour's layer that touches this leaf
+        const int to = side < 0 ? -1 : kLeafDim;
+        for (int a = 0; a < kLeafDim; ++a)
+          for (int b = 0; b < kLeafDim; ++b) {
             std::array<int, 3> src{}, dst{};
             src[axis] = from;
             dst[axis] = to;
@@ -80,7 +78,7 @@ class LeafScanner::Brick {
           }
       }
   }
-  // Local coordinates from -1 to kDim.
+  // Local coordinates from -1 to kLeafDim.
   float operator()(int x, int y, int z) const { return values_[index(x, y, z)]; }
   // Steps between neighbours along x, y, z.
   static constexpr int kStride[3] = {kSide * kSide, kSide, 1};

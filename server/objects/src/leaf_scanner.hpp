@@ -12,6 +12,7 @@
 namespace semfuse::objects::detail {
 
 using GeometryLeaf = volume::GeometryGrid::TreeType::LeafNodeType;
+inline constexpr int kLeafDim = static_cast<int>(GeometryLeaf::DIM);  // voxels per leaf side
 
 // Which labels make objects: not unlabeled, not background. A table over every label id, so that
 // the scan's test per voxel is one read.

@@ -12,7 +12,7 @@ namespace semfuse::objects {
 namespace {
 
 using detail::GeometryLeaf;
-constexpr int kDim = static_cast<int>(GeometryLeaf::DIM);
+using detail::kLeafDim;
 
 // The leaves whose surface a change to these leaves can touch: themselves and their face
 // neighbours, each once.
@@ -24,7 +24,7 @@ std::vector<openvdb::Coord> withFaceNeighbours(const std::vector<openvdb::Coord>
     for (int axis = 0; axis < 3; ++axis)
       for (int side : {-1, 1}) {
         openvdb::Coord neighbour = origin;
-        neighbour[axis] += side * kDim;
+        neighbour[axis] += side * kLeafDim;
         out.push_back(neighbour);
       }
   }

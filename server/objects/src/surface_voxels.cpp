@@ -12,7 +12,7 @@ namespace {
 
 using detail::GeometryLeaf;
 using IndexLeaf = openvdb::Int32Tree::LeafNodeType;
-constexpr int kDim = static_cast<int>(GeometryLeaf::DIM);
+using detail::kLeafDim;
 
 }  // namespace
 
@@ -21,7 +21,7 @@ SurfaceVoxels::SurfaceVoxels(double voxel_size, std::vector<SurfaceVoxel> voxels
   // Leaves first (serially: OpenVDB trees do not grow concurrently), then their values in parallel.
   std::vector<std::pair<IndexLeaf*, std::size_t>> starts;  // a leaf and the first of its voxels
   for (std::size_t i = 0; i < voxels_.size(); ++i) {
-    const openvdb::Coord origin = voxels_[i].ijk & ~(kDim - 1);
+    const openvdb::Coord origin = voxels_[i].ijk & ~(kLeafDim - 1);
     if (starts.empty() || starts.back().first->origin() != origin) starts.emplace_back(index_->touchLeaf(origin), i);
   }
   tbb::parallel_for(std::size_t{0}, starts.size(), [&](std::size_t s) {

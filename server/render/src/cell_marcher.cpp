@@ -7,9 +7,7 @@
 namespace semfuse::render::detail {
 namespace {
 
-using LeafCells = CrossingCells::LeafCells;
-constexpr int kLeafDim = CrossingCells::kLeafDim;
-constexpr int kLeafMask = kLeafDim - 1;
+constexpr int kLeafMask = CrossingCells::kLeafDim - 1;
 constexpr int kMaxNewtonSteps = 4;
 constexpr double kRootTolerance = 1e-4;  // of the segment through the cell
 constexpr int kMaxCubeDim = 8;           // a leaf
@@ -196,7 +194,7 @@ bool CellMarcher::findSurface(const MarchRay& ray, SurfaceHit& hit) const {
   }
   int* const cell = walk.cell;
   openvdb::Coord leaf_origin(cell[0] & ~kLeafMask, cell[1] & ~kLeafMask, cell[2] & ~kLeafMask);
-  const LeafCells* leaf = cells_->find(leaf_origin);
+  const CrossingCells::LeafCells* leaf = cells_->find(leaf_origin);
 
   // A ray crosses at most (t_max - t_min) (|dx| + |dy| + |dz|) + 3 cell faces; twice that bounds
   // the loop whatever the floating point does at faces (a guard: the walk must never hang a query).
@@ -204,7 +202,7 @@ bool CellMarcher::findSurface(const MarchRay& ray, SurfaceHit& hit) const {
   const long max_steps = 2 * static_cast<long>(std::min(faces, 1e9)) + 16;
   for (long steps = 0; steps < max_steps; ++steps) {
     const int lx = cell[0] & kLeafMask, ly = cell[1] & kLeafMask, lz = cell[2] & kLeafMask;
-    const int empty_dim = leaf ? leaf->emptyBlockDim(lx, ly, lz) : kLeafDim;
+    const int empty_dim = leaf ? leaf->emptyBlockDim(lx, ly, lz) : CrossingCells::kLeafDim;
     if (empty_dim > 1) {
       // No crossing cell in the block around this one: jump over all of it.
       t = walk.leaveCube(empty_dim);
@@ -242,8 +240,9 @@ bool CellMarcher::findSurface(const MarchRay& ray, SurfaceHit& hit) const {
             // finding below hides the miss. (z and z + 1 share a line.)
             for (int dx = 0; dx < 2; ++dx)
               for (int dy = 0; dy < 2; ++dy)
-                if (const volume::PackedVoxel* voxels = leaf->upper[LeafCells::upperHolding(lx + dx, ly + dy, lz)])
-                  __builtin_prefetch(voxels + LeafCells::offsetInLeaf(lx + dx, ly + dy, lz));
+                if (const volume::PackedVoxel* voxels =
+                        leaf->upper[CrossingCells::LeafCells::upperHolding(lx + dx, ly + dy, lz)])
+                  __builtin_prefetch(voxels + CrossingCells::LeafCells::offsetInLeaf(lx + dx, ly + dy, lz));
             hit.t = t + rootInBracket(g, s_end, f_in, g_end) * (t_exit - t);
             hit.leaf = leaf;
             hit.local[0] = lx;

@@ -15,8 +15,6 @@ namespace semfuse::render::detail {
 namespace {
 
 using Leaf = CrossingCells::Leaf;
-using LeafCells = CrossingCells::LeafCells;
-constexpr int kLeafDim = CrossingCells::kLeafDim;
 
 // A half-space through the camera centre (or parallel to the image plane) in camera coordinates:
 // n . p + offset >= 0 inside.
@@ -44,7 +42,7 @@ bool meetsFrustum(const openvdb::Coord& origin, double voxel, const Eigen::Matri
                   const Eigen::Vector3d& camera_origin, const std::array<Plane, 6>& planes) {
   const Eigen::Vector3d low =
       world_to_camera * (Eigen::Vector3d(origin.x(), origin.y(), origin.z()) * voxel - camera_origin);
-  const double edge = kLeafDim * voxel;
+  const double edge = CrossingCells::kLeafDim * voxel;
   const Eigen::Vector3d ex = world_to_camera.col(0) * edge, ey = world_to_camera.col(1) * edge,
                         ez = world_to_camera.col(2) * edge;
   for (const Plane& plane : planes) {
@@ -64,10 +62,10 @@ bool meetsFrustum(const openvdb::Coord& origin, double voxel, const Eigen::Matri
 // The crossing cells of one leaf, from its voxel columns (bit z = voxel z, 0..8; see
 // voxel_columns.hpp): per cell, AND the observed bits of its 4 columns and 2 levels, OR their
 // non-positive and positive bits.
-std::array<uint64_t, kLeafDim> crossingMask(const VoxelColumns& c) {
-  std::array<uint64_t, kLeafDim> mask{};
-  for (int x = 0; x < kLeafDim; ++x)
-    for (int y = 0; y < kLeafDim; ++y) {
+std::array<uint64_t, CrossingCells::kLeafDim> crossingMask(const VoxelColumns& c) {
+  std::array<uint64_t, CrossingCells::kLeafDim> mask{};
+  for (int x = 0; x < CrossingCells::kLeafDim; ++x)
+    for (int y = 0; y < CrossingCells::kLeafDim; ++y) {
       const unsigned all_seen =
           c.observed[x][y] & c.observed[x + 1][y] & c.observed[x][y + 1] & c.observed[x + 1][y + 1];
       const unsigned any_below =
@@ -77,16 +75,16 @@ std::array<uint64_t, kLeafDim> crossingMask(const VoxelColumns& c) {
       // Bit z of each: voxels z and z + 1 of the columns, the cell's two levels.
       const unsigned cells =
           (all_seen & (all_seen >> 1)) & (any_below | (any_below >> 1)) & (any_above | (any_above >> 1)) & 0xFFu;
-      mask[x] |= static_cast<uint64_t>(cells) << (kLeafDim * y);
+      mask[x] |= static_cast<uint64_t>(cells) << (CrossingCells::kLeafDim * y);
     }
   return mask;
 }
 
 // Fills the coarse block masks of a leaf from its cell mask.
-void summarizeBlocks(LeafCells& leaf) {
+void summarizeBlocks(CrossingCells::LeafCells& leaf) {
   leaf.blocks2 = 0;
   leaf.blocks4 = 0;
-  for (int x = 0; x < kLeafDim; ++x) {
+  for (int x = 0; x < CrossingCells::kLeafDim; ++x) {
     const uint64_t word = leaf.crossing[x];
     if (word == 0) continue;
     for (int by = 0; by < 4; ++by)
@@ -136,7 +134,7 @@ constexpr int kCornerOffset[8] = {0,
 // non-positive points of the cell lie within the union of the non-positive spans of its 4 edges
 // along that axis: a box much thinner than the cell where the surface runs close to a voxel
 // plane. The half-space: see below.
-SurfaceBox surfaceBox(const LeafCells& leaf, const VoxelColumns& columns, int x0, int y0, int z0) {
+SurfaceBox surfaceBox(const CrossingCells::LeafCells& leaf, const VoxelColumns& columns, int x0, int y0, int z0) {
   constexpr int kBlockDim = CrossingCells::kSurfaceBlockDim;
   constexpr int kBlockCells = kBlockDim * kBlockDim * kBlockDim;
   using Corners = Eigen::Array<float, 8, 1>;  // of one cell, k = dx + 2 dy + 4 dz
@@ -207,7 +205,7 @@ SurfaceBox surfaceBox(const LeafCells& leaf, const VoxelColumns& columns, int x0
 
 // The surface boxes of a leaf (crossing masks and brick done, `columns` its voxel columns), in
 // index space, onto `out`.
-void addSurfaceBoxes(const LeafCells& leaf, const VoxelColumns& columns, std::vector<SurfaceBox>& out) {
+void addSurfaceBoxes(const CrossingCells::LeafCells& leaf, const VoxelColumns& columns, std::vector<SurfaceBox>& out) {
   static_assert(CrossingCells::kSurfaceBlockDim == 2, "blocks2 has one bit per 2^3 block");
   for (uint64_t blocks = leaf.blocks2; blocks != 0; blocks &= blocks - 1) {
     const int bit = __builtin_ctzll(blocks);  // 16 bx + 4 by + bz
@@ -259,8 +257,9 @@ CrossingCells::CrossingCells(const volume::LabeledVolume& volume, const PinholeI
     if (!leaves_[i].in_view) continue;
     std::array<uint32_t, 8>& upper = upper_of.emplace_back();
     for (int n = 0; n < 8; ++n) {
-      const LeafCells* neighbour =
-          find(leaves_[i].origin.offsetBy((n & 1) * kLeafDim, ((n >> 1) & 1) * kLeafDim, (n >> 2) * kLeafDim));
+      const CrossingCells::LeafCells* neighbour =
+          find(leaves_[i].origin.offsetBy((n & 1) * CrossingCells::kLeafDim, ((n >> 1) & 1) * CrossingCells::kLeafDim,
+                                          (n >> 2) * CrossingCells::kLeafDim));
       upper[n] = neighbour ? static_cast<uint32_t>(neighbour - leaves_.data()) : LeafIndex::kNone;
       if (!neighbour || is_needed[upper[n]]) continue;
       needed.push_back(upper[n]);
@@ -281,7 +280,7 @@ CrossingCells::CrossingCells(const volume::LabeledVolume& volume, const PinholeI
     if (!color_leaves.empty()) color_copies_.reset(new volume::PackedColor[needed.size() * Leaf::SIZE]);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, needed.size(), 64), [&](const auto& range) {
       for (std::size_t c = range.begin(); c < range.end(); ++c) {
-        LeafCells& leaf = leaves_[needed[c]];
+        CrossingCells::LeafCells& leaf = leaves_[needed[c]];
         volume::PackedVoxel* copy = voxel_copies_.get() + c * Leaf::SIZE;
         std::copy(leaf.voxels, leaf.voxels + Leaf::SIZE, copy);
         leaf.voxels = copy;
@@ -299,10 +298,10 @@ CrossingCells::CrossingCells(const volume::LabeledVolume& volume, const PinholeI
       if (color_leaves[j]) leaves_[j].colors = color_leaves[j]->buffer().data();
   }
   auto upper = upper_of.begin();
-  for (LeafCells& leaf : leaves_) {
+  for (CrossingCells::LeafCells& leaf : leaves_) {
     if (!leaf.in_view) continue;
     for (int n = 0; n < 8; ++n) {
-      const LeafCells* neighbour = (*upper)[n] == LeafIndex::kNone ? nullptr : &leaves_[(*upper)[n]];
+      const CrossingCells::LeafCells* neighbour = (*upper)[n] == LeafIndex::kNone ? nullptr : &leaves_[(*upper)[n]];
       leaf.upper[n] = neighbour ? neighbour->voxels : nullptr;
       leaf.upper_colors[n] = neighbour ? neighbour->colors : nullptr;
     }
@@ -324,7 +323,7 @@ void CrossingCells::findCrossings() {
     VoxelColumns columns;
     std::vector<SurfaceBox>& leaf_boxes = boxes.local();
     for (std::size_t i = range.begin(); i < range.end(); ++i) {
-      LeafCells& leaf = leaves_[i];
+      CrossingCells::LeafCells& leaf = leaves_[i];
       if (!leaf.in_view) continue;
       float* brick = bricks_.get() + static_cast<std::size_t>(brick_of[i]) * kBrickSize;
       read_columns(leaf, brick, columns);

@@ -115,7 +115,8 @@ SEMFUSE_AVX2 void clipRectsAvx2(const SurfaceDepthBounds::BandView& band, const 
   }
 }
 
-#else  // not x86-64: never chosen (raycastKernel() is never kAvx2 there)
+#undef SEMFUSE_AVX2  // a unity build compiles other files after this one
+#else                // not x86-64: never chosen (raycastKernel() is never kAvx2 there)
 
 void fillInverseDirectionsAvx2(const SurfaceDepthBounds::BandView& band, const double ray_du[3], const double ray_dv[3],
                                const double ray_at_origin[3]) {

@@ -66,6 +66,7 @@ bool voxelColumnsAvx2Supported() {
   return supported;
 }
 
+#undef SEMFUSE_AVX2  // a unity build compiles other files after this one
 #else
 
 void readVoxelColumnsAvx2(const CrossingCells::LeafCells& leaf, float* brick, VoxelColumns& columns) {
