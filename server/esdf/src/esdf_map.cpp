@@ -40,7 +40,8 @@ EsdfMap::EsdfMap(double voxel_size, EsdfParams params)
       params_(params),
       max_voxels_(static_cast<float>(params.max_distance / voxel_size)),
       grid_(EsdfGrid::create(0)),
-      waves_(std::make_unique<detail::Waves>(grid_->tree(), max_voxels_)) {
+      waves_(std::make_unique<detail::Waves>(grid_->tree(), max_voxels_)),
+      classified_(std::make_unique<detail::ClassifiedLeaves>()) {
   grid_->setTransform(openvdb::math::Transform::createLinearTransform(voxel_size));
   grid_->setName("esdf");
 }
@@ -57,14 +58,16 @@ UpdateStats EsdfMap::apply(const MapChanges& changes) {
   stats.leaves = changes.leaves.size();
   stats.rebuilt = changes.all;
   if (changes.all) clear();
-  detail::LeafClassifier classifier(voxel_size_, params_);
   detail::Waves& waves = *waves_;
   openvdb::tree::ValueAccessor<EsdfGrid::TreeType> leaves(grid_->tree());
 
   using Leaf = detail::FieldLeaf;
-  std::array<detail::Classified, kLeafVoxels> now;
-  for (const ChangedLeaf& leaf : changes.leaves) {
-    const bool any_known = classifier.classify(leaf, now);
+  classified_->classify(changes.leaves, voxel_size_, params_);
+  for (std::size_t i = 0; i < changes.leaves.size(); ++i) {
+    const ChangedLeaf& leaf = changes.leaves[i];
+    detail::ClassifiedLeaf& classified = classified_->leaves[i];
+    const bool any_known = classified.any_known;
+    const auto& now = classified.voxels;
     Leaf* field = leaves.probeLeaf(leaf.origin);
     const bool fresh = field == nullptr;
     if (fresh) {
@@ -120,7 +123,7 @@ UpdateStats EsdfMap::apply(const MapChanges& changes) {
         waves.addOrphan(voxel);
       }
     }
-    surfaces_.setLeaf(leaf.origin, classifier.surfacePoints(leaf));
+    surfaces_.setLeaf(leaf.origin, std::move(classified.surface));
   }
 
   waves.run(stats);

@@ -3,6 +3,9 @@
 #include <cmath>
 #include <limits>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include "semfuse/volume/voxel.hpp"
 
 namespace semfuse::esdf::detail {
@@ -62,6 +65,20 @@ std::vector<SurfacePoint> LeafClassifier::surfacePoints(const ChangedLeaf& leaf)
         points.push_back({position, label});
       }
   return points;
+}
+
+void ClassifiedLeaves::classify(const std::vector<ChangedLeaf>& changed, double voxel_size, const EsdfParams& params) {
+  leaves.resize(changed.size());
+  // Leaves in chunks of 16: a classifier's padded array is set up once per task.
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, changed.size(), 16),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      LeafClassifier classifier(voxel_size, params);
+                      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                        ClassifiedLeaf& out = leaves[i];
+                        out.any_known = classifier.classify(changed[i], out.voxels);
+                        out.surface = classifier.surfacePoints(changed[i]);
+                      }
+                    });
 }
 
 LeafClassifier::Crossing LeafClassifier::nearestCrossing(int x, int y, int z) const {

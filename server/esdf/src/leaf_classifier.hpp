@@ -60,4 +60,19 @@ class LeafClassifier {
   std::array<float, kPadded * kPadded * kPadded> tsdf_{};
 };
 
+// A changed leaf classified: its voxels (index = OpenVDB leaf offset) and labeled surface points.
+struct ClassifiedLeaf {
+  bool any_known = false;
+  std::array<Classified, volume::LabeledVolume::kLeafVoxels> voxels;
+  std::vector<SurfacePoint> surface;
+};
+
+// The changed leaves classified in parallel, out[i] from leaves[i]: a leaf's classification reads
+// its own copy alone (voxels and halo), while writing the field and queueing the waves is one
+// sequence. Kept by the field from one update to the next for the capacity.
+struct ClassifiedLeaves {
+  std::vector<ClassifiedLeaf> leaves;
+  void classify(const std::vector<ChangedLeaf>& changed, double voxel_size, const EsdfParams& params);
+};
+
 }  // namespace semfuse::esdf::detail

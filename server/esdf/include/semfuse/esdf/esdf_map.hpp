@@ -27,7 +27,8 @@
 namespace semfuse::esdf {
 namespace detail {
 class Waves;
-}
+struct ClassifiedLeaves;
+}  // namespace detail
 
 struct UpdateStats {
   std::size_t leaves = 0;         // changed leaves processed
@@ -67,7 +68,8 @@ class EsdfMap {
   float max_voxels_;
   EsdfGrid::Ptr grid_;
   LabelSurfaces surfaces_;
-  std::unique_ptr<detail::Waves> waves_;  // after grid_: its accessors go before the tree
+  std::unique_ptr<detail::Waves> waves_;                  // after grid_: its accessors go before the tree
+  std::unique_ptr<detail::ClassifiedLeaves> classified_;  // apply()'s, kept for its capacity
   uint64_t revision_ = 0;
 };
 
