@@ -40,8 +40,7 @@ EsdfMap::EsdfMap(double voxel_size, EsdfParams params)
       params_(params),
       max_voxels_(static_cast<float>(params.max_distance / voxel_size)),
       grid_(EsdfGrid::create(0)),
-      waves_(std::make_unique<detail::Waves>(grid_->tree(), max_voxels_)),
-      classified_(std::make_unique<detail::ClassifiedLeaves>()) {
+      waves_(std::make_unique<detail::Waves>(grid_->tree(), max_voxels_)) {
   grid_->setTransform(openvdb::math::Transform::createLinearTransform(voxel_size));
   grid_->setName("esdf");
 }
@@ -62,10 +61,12 @@ UpdateStats EsdfMap::apply(const MapChanges& changes) {
   openvdb::tree::ValueAccessor<EsdfGrid::TreeType> leaves(grid_->tree());
 
   using Leaf = detail::FieldLeaf;
-  classified_->classify(changes.leaves, voxel_size_, params_);
+  // Not kept between updates: a rebuild's would hold megabytes for nothing.
+  detail::ClassifiedLeaves classified_leaves;
+  classified_leaves.classify(changes.leaves, voxel_size_, params_);
   for (std::size_t i = 0; i < changes.leaves.size(); ++i) {
     const ChangedLeaf& leaf = changes.leaves[i];
-    detail::ClassifiedLeaf& classified = classified_->leaves[i];
+    detail::ClassifiedLeaf& classified = classified_leaves.leaves[i];
     const bool any_known = classified.any_known;
     const auto& now = classified.voxels;
     Leaf* field = leaves.probeLeaf(leaf.origin);

@@ -69,7 +69,7 @@ struct ClassifiedLeaf {
 
 // The changed leaves classified in parallel, out[i] from leaves[i]: a leaf's classification reads
 // its own copy alone (voxels and halo), while writing the field and queueing the waves is one
-// sequence. Kept by the field from one update to the next for the capacity.
+// sequence.
 struct ClassifiedLeaves {
   std::vector<ClassifiedLeaf> leaves;
   void classify(const std::vector<ChangedLeaf>& changed, double voxel_size, const EsdfParams& params);

@@ -27,7 +27,6 @@
 namespace semfuse::esdf {
 namespace detail {
 class Waves;
-struct ClassifiedLeaves;
 }  // namespace detail
 
 struct UpdateStats {
@@ -68,8 +67,7 @@ class EsdfMap {
   float max_voxels_;
   EsdfGrid::Ptr grid_;
   LabelSurfaces surfaces_;
-  std::unique_ptr<detail::Waves> waves_;                  // after grid_: its accessors go before the tree
-  std::unique_ptr<detail::ClassifiedLeaves> classified_;  // apply()'s, kept for its capacity
+  std::unique_ptr<detail::Waves> waves_;  // after grid_: its accessors go before the tree
   uint64_t revision_ = 0;
 };
 
