@@ -79,6 +79,7 @@ TEST_F(ServerConfigTest, EveryFlagAndConfigKeyKeepsItsName) {
   for (const char* flag : {"--voxel-size",
                            "--truncation",
                            "--max-weight",
+                           "--weight-dropoff",
                            "--max-label-score",
                            "--label-rule",
                            "--min-depth",
@@ -115,6 +116,7 @@ TEST_F(ServerConfigTest, AParameterGoesFromYamlThroughTheMapFileUnchanged) {
                               "voxel-size: 0.03\n"
                               "truncation: 0.15\n"
                               "max-weight: 100\n"
+                              "weight-dropoff: 0.5\n"
                               "max-label-score: 12.5\n"
                               "label-rule: majority\n"
                               "min-depth: 0.3\n"
@@ -135,6 +137,7 @@ TEST_F(ServerConfigTest, AParameterGoesFromYamlThroughTheMapFileUnchanged) {
   EXPECT_EQ(p.voxel_size, 0.03);
   EXPECT_EQ(p.truncation, 0.15);
   EXPECT_EQ(p.max_weight, 100.0f);
+  EXPECT_EQ(p.weight_dropoff, 0.5f);
   EXPECT_EQ(p.max_label_score, 12.5f);
   EXPECT_EQ(p.label_rule, volume::LabelRule::kMajority);
   EXPECT_EQ(p.min_depth, 0.3f);

@@ -149,6 +149,27 @@ TEST(IntegrateGeometry, ObservationsFarBehindTheSurfaceWeighLess) {
   EXPECT_NEAR(halfway.voxel({0, 0, 103}).weight, 0.5f, 2e-3f);
 }
 
+// weight_dropoff 1: every observation weighs 1 down to the truncation (KinectFusion's weight); 0.5:
+// the drop starts 2 cm behind a 4 cm truncation, and 3 cm behind is halfway through it.
+TEST(IntegrateGeometry, TheWeightDropOffIsAParameter) {
+  const PinholeIntrinsics k = smallCamera();
+  const cv::Mat depth(k.height, k.width, CV_32FC1, cv::Scalar(1.0));
+  VolumeParams constant;
+  constant.weight_dropoff = 1.0f;
+  LabeledVolume flat(constant);
+  ASSERT_TRUE(integrate(flat, depth, cv::Mat(), k, Pose::Identity()).ok());
+  EXPECT_EQ(flat.voxel({0, 0, 103}).weight, 1.0f);
+  EXPECT_EQ(flat.voxel({0, 0, 104}).weight, 1.0f);  // at the truncation
+
+  VolumeParams early;
+  early.weight_dropoff = 0.5f;
+  LabeledVolume dropping(early);
+  ASSERT_TRUE(integrate(dropping, depth, cv::Mat(), k, Pose::Identity()).ok());
+  EXPECT_EQ(dropping.voxel({0, 0, 102}).weight, 1.0f);           // 2 cm behind: where the drop starts
+  EXPECT_NEAR(dropping.voxel({0, 0, 103}).weight, 0.5f, 2e-3f);  // halfway through the drop
+  EXPECT_NEAR(dropping.voxel({0, 0, 104}).weight, 1.0f / 16.0f, 1e-3f);
+}
+
 TEST(IntegrateGeometry, TsdfIsTruncatedAndNotUpdatedFarBehind) {
   LabeledVolume volume;
   const PinholeIntrinsics k = smallCamera();

@@ -47,6 +47,7 @@ VolumeParams unusualParams() {
   p.voxel_size = 0.03;
   p.truncation = 0.15;
   p.max_weight = 100.0f;
+  p.weight_dropoff = 0.5f;
   p.max_label_score = 12.5f;
   p.label_rule = LabelRule::kMajority;
   p.label_likelihood = 0.75f;
@@ -72,11 +73,11 @@ TEST(VolumeParamTable, EveryFieldHasOneRowWithItsOwnKeyAndFlag) {
     }
     EXPECT_NE(std::string(field.doc), "") << field.key;
   });
-  EXPECT_EQ(rows, 11);
+  EXPECT_EQ(rows, 12);
   // A new member without a row would be missing from map files and flags: unusualParams() sets
   // every member, and each differs from the default in exactly one row.
   const auto defaults = fieldsOf(VolumeParams{}), unusual = fieldsOf(unusualParams());
-  ASSERT_EQ(defaults.size(), 11u);
+  ASSERT_EQ(defaults.size(), 12u);
   for (const auto& [key, value] : defaults) EXPECT_NE(unusual.at(key), value) << key;
 }
 
@@ -89,6 +90,11 @@ TEST(VolumeParamTable, RangesGiveOneWordingForEveryField) {
   p = {};
   p.max_weight = 5000;
   EXPECT_EQ(p.validate().error(), "max_weight must be a finite number in [1, 2048], got 5000");
+  p = {};
+  p.weight_dropoff = 0.0f;  // a drop from the surface itself would weigh noise in front above it
+  EXPECT_EQ(p.validate().error(), "weight_dropoff must be a finite number in (0, 1], got 0");
+  p.weight_dropoff = 1.0f;
+  EXPECT_TRUE(p.validate().ok());
   p = {};
   p.max_label_score = std::nanf("");
   EXPECT_EQ(p.validate().error(), "max_label_score must be a finite number in (0, 2048], got nan");
@@ -151,10 +157,10 @@ TEST_F(VolumeParamsInMapFiles, EveryFieldIsStoredUnderItsKeyAndReadBack) {
   std::ifstream in(path, std::ios::binary);
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   const std::map<std::string, std::string> types{
-      {"voxel_size", "double"},        {"truncation", "double"},   {"max_weight", "float"},
-      {"max_label_score", "float"},    {"label_rule", "string"},   {"label_likelihood", "float"},
-      {"label_classes", "int32"},      {"min_depth", "float"},     {"max_depth", "float"},
-      {"background_labels", "string"}, {"integrate_color", "bool"}};
+      {"voxel_size", "double"},      {"truncation", "double"},        {"max_weight", "float"},
+      {"weight_dropoff", "float"},   {"max_label_score", "float"},    {"label_rule", "string"},
+      {"label_likelihood", "float"}, {"label_classes", "int32"},      {"min_depth", "float"},
+      {"max_depth", "float"},        {"background_labels", "string"}, {"integrate_color", "bool"}};
   forEachVolumeParam(saved, [&](const ParamField& field, const auto&) {
     // OpenVDB file metadata: the name, then the length-prefixed type name.
     const std::string key = std::string("semfuse:") + field.key;
@@ -174,6 +180,7 @@ TEST_F(VolumeParamsInMapFiles, AMapWrittenByAnEarlierBuildStillLoads) {
   EXPECT_EQ(params.voxel_size, 0.05);
   EXPECT_EQ(params.truncation, 0.2);
   EXPECT_TRUE(params.integrate_color);
+  EXPECT_EQ(params.weight_dropoff, VolumeParams{}.weight_dropoff);  // stored since version 4
   EXPECT_GT(loaded.value().volume.observedVoxels(), 0u);
 }
 

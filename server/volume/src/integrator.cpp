@@ -60,11 +60,13 @@ std::size_t countValidPixels(const FrameView& frame) {
 }
 
 KernelConfig kernelConfig(const VolumeParams& params, const IgnoredLabels* ignored) {
-  const double dropoff_start = detail::kDropoffStart * params.truncation;
+  const double dropoff_start = params.weight_dropoff * params.truncation;
+  // A drop-off at the truncation itself is no drop-off: every observation weighs 1.
+  const double dropoff_per_metre = params.weight_dropoff < 1.0f ? 1.0 / (params.truncation - dropoff_start) : 0.0;
   return {static_cast<float>(params.voxel_size),
           static_cast<float>(params.truncation),
           static_cast<float>(dropoff_start),
-          static_cast<float>(1.0 / (params.truncation - dropoff_start)),
+          static_cast<float>(dropoff_per_metre),
           params.max_weight,
           params.max_label_score,
           ignored,

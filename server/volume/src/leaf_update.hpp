@@ -71,15 +71,10 @@ struct KernelConfig {
 };
 
 // The weight of one observation of a voxel `sdf` metres in front of (positive) or behind
-// (negative) the surface a depth pixel saw: 1 in front and down to kDropoffStart of the
-// truncation behind, then falling linearly to kMinObservationWeight at the truncation (the
-// linear weight of Bylow et al. 2013). A pixel says little about what lies well behind its
-// surface: behind a thin object or an edge lies space that other views see in front of another
-// face, and at full weight the views from across would average it into "inside". The drop starts
-// that deep because the truncation is a few times the depth noise: a drop within the noise would
-// weigh the noisy samples in front of a surface above those behind it, and move the surface away
-// from the camera. The floor keeps a voxel seen only from behind observed (its weight above zero).
-inline constexpr float kDropoffStart = 0.75f;
+// (negative) the surface a depth pixel saw: 1 in front and down to VolumeParams::weight_dropoff
+// of the truncation behind, then falling linearly to kMinObservationWeight at the truncation (the
+// linear weight of Bylow et al. 2013; volume_params.hpp says why). The floor keeps a voxel seen
+// only from behind observed (its weight above zero).
 inline constexpr float kMinObservationWeight = 1.0f / 16.0f;
 inline float observationWeight(float sdf, const KernelConfig& config) {
   return std::min(1.0f,

@@ -293,7 +293,7 @@ Result<LoadedMap> readMap(const fs::path& path) {
   if (version.value() < 3 && usesLabelSidecar(params.label_rule))
     return makeError("map format version " + std::to_string(version.value()) + " stores the '" +
                      labelRuleName(params.label_rule) +
-                     "' rule's candidates as a top-3 list, which this build (version 3, top-5) cannot read; "
+                     "' rule's candidates as a top-3 list, which this build (top-5 since version 3) cannot read; "
                      "fuse the map again");
   auto created = LabeledVolume::create(params);
   if (!created) return makeError(created.error());

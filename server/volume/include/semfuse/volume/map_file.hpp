@@ -30,9 +30,10 @@ namespace semfuse::volume {
 
 // 1: evidence rule only. 2: label rule metadata and the label sidecar grid holding the top-3
 // candidates of the majority and bayes rules. 3: the sidecar holds the top-5 (10-bit label, 6-bit
-// score each). Files of versions 1 and 2 load when their rule is the evidence rule; a version 2
+// score each). 4: the weight drop-off (VolumeParams::weight_dropoff; older files load with the
+// default). Files of versions 1 and 2 load when their rule is the evidence rule; a version 2
 // majority or bayes map is refused, since its sidecar packs candidates another way.
-inline constexpr int kMapFormatVersion = 3;
+inline constexpr int kMapFormatVersion = 4;
 
 using MapExtraMetadata = std::map<std::string, std::string>;
 

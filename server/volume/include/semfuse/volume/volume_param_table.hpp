@@ -55,6 +55,11 @@ void forEachVolumeParam(Params& params, Visit&& visit) {
   visit(ParamField{"truncation", "truncation", "TSDF truncation distance, metres (at least one voxel)", positive},
         params.truncation);
   visit(ParamField{"max_weight", "max-weight", "TSDF weight clamp", ParamRange{1.0, kHalfExact}}, params.max_weight);
+  visit(ParamField{"weight_dropoff", "weight-dropoff",
+                   "depth behind the surface, as a fraction of the truncation, where an observation's weight "
+                   "starts to fall linearly to 1/16 at -truncation (1: constant weight)",
+                   ParamRange{0.0, 1.0, true, false}, 4},
+        params.weight_dropoff);
   visit(ParamField{"max_label_score", "max-label-score", "label score clamp W_clamp",
                    ParamRange{0.0, kHalfExact, true, false}},
         params.max_label_score);

@@ -18,6 +18,15 @@ struct VolumeParams {
   // Integration weights are stored as half floats, which hold every integer up to 2048 exactly,
   // so the running average stays exact up to that clamp.
   float max_weight = 64.0f;
+  // Where behind the surface an observation's weight starts to fall, as a fraction of the
+  // truncation: 1 in front of the surface and down to this depth behind it, then linearly less,
+  // to 1/16 at -truncation (the linear weight of Bylow et al. 2013). A pixel says little about
+  // what lies well behind the surface it saw: the far side of a thin object or an edge should not
+  // outweigh the views that see that side. It starts this deep because the truncation is a few
+  // times the depth noise, and a drop within the noise would weigh the noisy samples in front of a
+  // surface above those behind it. 1: every observation weighs 1 (KinectFusion's, vdbfusion's and
+  // voxblox's constant weight).
+  float weight_dropoff = 0.75f;
 
   // W_clamp of Algorithm 1: the most evidence a voxel's label can accumulate. With confidences
   // around 0.5-1 a label saturates after ~16-32 agreeing frames (about one second at 30 Hz), and a
