@@ -67,9 +67,9 @@ struct ClassifiedLeaf {
   std::vector<SurfacePoint> surface;
 };
 
-// The changed leaves classified in parallel, out[i] from leaves[i]: a leaf's classification reads
-// its own copy alone (voxels and halo), while writing the field and queueing the waves is one
-// sequence.
+// The changed leaves classified in parallel, leaves[i] from changed[i]: a leaf's classification
+// reads its own copy alone (voxels and halo), while writing the field and queueing the waves is
+// one sequence.
 struct ClassifiedLeaves {
   std::vector<ClassifiedLeaf> leaves;
   void classify(const std::vector<ChangedLeaf>& changed, double voxel_size, const EsdfParams& params);
