@@ -1,6 +1,6 @@
 #include "semfuse/tracking/volume_field.hpp"
 
-#include "semfuse/volume/volume_sampler.hpp"
+#include "semfuse/volume/leaf_cache_sampler.hpp"
 
 namespace semfuse::tracking {
 
@@ -17,7 +17,7 @@ class VolumeFieldSampler final : public SdfSampler {
   }
 
  private:
-  volume::VolumeSampler sampler_;
+  volume::LeafCacheSampler sampler_;
 };
 }  // namespace
 

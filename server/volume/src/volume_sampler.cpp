@@ -76,21 +76,16 @@ bool VolumeSampler::tsdfAndGradient(const Eigen::Vector3f& world, float& tsdf, E
 }
 
 void VolumeSampler::gatherLuma(const openvdb::Coord& base, float luma[8]) {
-  // Rec. 601 luma, the grey level a camera's intensity image has.
-  auto lumaOf = [](PackedColor packed) {
-    const Rgb8 c = unpackColor(packed);
-    return (0.299f * c.r + 0.587f * c.g + 0.114f * c.b) * (1.0f / 255.0f);
-  };
   using ColorLeaf = ColorGrid::TreeType::LeafNodeType;
   if ((base.x() & kLeafMask) != kLeafMask && (base.y() & kLeafMask) != kLeafMask &&
       (base.z() & kLeafMask) != kLeafMask) {
     if (const ColorLeaf* leaf = color_->probeConstLeaf(base)) {
       const PackedColor* values = leaf->buffer().data() + ColorLeaf::coordToOffset(base);
-      for (int i = 0; i < 8; ++i) luma[i] = lumaOf(values[kCellCornerOffsets[i]]);
+      for (int i = 0; i < 8; ++i) luma[i] = unpackLuma(values[kCellCornerOffsets[i]]);
       return;
     }
   }
-  for (int i = 0; i < 8; ++i) luma[i] = lumaOf(color_->getValue(base.offsetBy(i & 1, (i >> 1) & 1, (i >> 2) & 1)));
+  for (int i = 0; i < 8; ++i) luma[i] = unpackLuma(color_->getValue(base.offsetBy(i & 1, (i >> 1) & 1, (i >> 2) & 1)));
 }
 
 bool VolumeSampler::tsdfAndIntensity(const Eigen::Vector3f& world, float& tsdf, Eigen::Vector3f& tsdf_gradient,

@@ -1,7 +1,8 @@
 #pragma once
 // The labeled OpenVDB volume as the tracker's SdfField: trilinear TSDF and its gradient through
-// VolumeSampler (false wherever any of the 8 surrounding voxels is unobserved, which is exactly
-// the "weight > 0" rule of the tracker).
+// LeafCacheSampler (false wherever any of the 8 surrounding voxels is unobserved, which is exactly
+// the "weight > 0" rule of the tracker). A sampler keeps the leaves it has read for as long as it
+// lives: one alignment, over which the points come back to the same leaves pass after pass.
 #include <memory>
 
 #include "semfuse/tracking/sdf_field.hpp"

@@ -138,5 +138,10 @@ inline Rgb8 unpackColor(PackedColor c) {
   const auto u = static_cast<uint32_t>(c);
   return {static_cast<uint8_t>(u >> 16), static_cast<uint8_t>(u >> 8), static_cast<uint8_t>(u)};
 }
+// Rec. 601 luma (0..1) of a packed colour: the grey level a camera's intensity image has.
+inline float unpackLuma(PackedColor packed) {
+  const Rgb8 c = unpackColor(packed);
+  return (0.299f * c.r + 0.587f * c.g + 0.114f * c.b) * (1.0f / 255.0f);
+}
 
 }  // namespace semfuse::volume
