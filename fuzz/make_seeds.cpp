@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -28,6 +29,7 @@
 #include "semfuse/wire/map_update_codecs.hpp"
 #include "semfuse/wire/message_codecs.hpp"
 #include "semfuse/wire/ros_codec.hpp"
+#include "semfuse/wire/rvl_codec.hpp"
 #include "semfuse/wire/service_codecs.hpp"
 #include "semfuse/wire/status_codec.hpp"
 #include "tiny_map.hpp"
@@ -80,7 +82,7 @@ Frame smallFrame() {
 }
 
 void frameSeeds(const Frame& frame) {
-  for (const std::string depth : {"16UC1", "32FC1", "png16"}) {
+  for (const std::string depth : {"16UC1", "32FC1", "png16", "rvl"}) {
     for (const std::string color : {"", "rgb8", "bgr8", "jpeg", "png"}) {
       wire::FrameEncoding encoding;
       encoding.depth = depth;
@@ -123,6 +125,7 @@ void imagePayloadSeeds(const Frame& frame) {
   cv::Mat units;
   frame.depth.convertTo(units, CV_16U, 1000.0);
   write("image_payload", "depth-png16", seed(2, encode(".png", units, {})));
+  write("image_payload", "depth-rvl", seed(3, wire::encodeRvl(units).value()));
   cv::Mat gray;
   cv::cvtColor(bgr, gray, cv::COLOR_BGR2GRAY);
   write("image_payload", "color-png-gray", seed(0, encode(".png", gray, {})));
@@ -257,6 +260,31 @@ void rosSeeds(const Frame& frame) {
     owned.msg().format = owned.keepString("16UC1; png compressed");
     owned.keepSequence(owned.msg().data, payload);
     write("ros_compressed_image_cdr", "png16", cdr(owned.msg()));
+  }
+  // compressed_depth_image_transport's images: millimetres as PNG and RVL, and 32FC1 as its
+  // quantised inverse depth (a = 10100, b = -1009: its defaults) in RVL.
+  for (const std::string compression : {"png", "rvl"}) {
+    write("ros_compressed_image_cdr", "compressed-depth-" + compression,
+          cdr(wire::compressedDepthFromMillimetres(units, compression, stamp, "cam").value().msg()));
+  }
+  {
+    cv::Mat inverse(units.size(), CV_16UC1);
+    for (int y = 0; y < units.rows; ++y) {
+      for (int x = 0; x < units.cols; ++x) {
+        const float metres = frame.depth.at<float>(y, x);
+        inverse.at<uint16_t>(y, x) = metres > 0.0f ? static_cast<uint16_t>(10100.0f / metres - 1009.0f) : 0;
+      }
+    }
+    auto owned = wire::compressedDepthFromMillimetres(inverse, "rvl", stamp, "cam").value();
+    auto& msg = owned.msg();
+    msg.format = owned.keepString("32FC1; compressedDepth rvl");
+    const float params[2] = {10100.0f, -1009.0f};
+    for (int i = 0; i < 2; ++i) {  // little-endian, after the int32 format
+      uint32_t bits = 0;
+      std::memcpy(&bits, &params[i], sizeof bits);
+      for (int b = 0; b < 4; ++b) msg.data._buffer[4 + 4 * i + b] = static_cast<uint8_t>(bits >> (8 * b));
+    }
+    write("ros_compressed_image_cdr", "compressed-depth-32FC1-rvl", cdr(msg));
   }
   write("ros_geometry_cdr", "camera-info",
         withSelector(0, cdr(wire::cameraInfoFromIntrinsics(frame.intrinsics, stamp, "cam").msg())));

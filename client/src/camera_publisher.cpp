@@ -25,6 +25,9 @@ wire::FrameEncoding wireEncoding(const CameraPublisherOptions& options) {
     case DepthEncoding::kPng16:
       encoding.depth = "png16";
       break;
+    case DepthEncoding::kRvl:
+      encoding.depth = "rvl";
+      break;
   }
   switch (options.color_encoding) {
     case ColorEncoding::kNone:

@@ -6,6 +6,7 @@ std::optional<DepthEncoding> parseDepthEncoding(const std::string& text) {
   if (text == "raw") return DepthEncoding::kRaw16;
   if (text == "float") return DepthEncoding::kRawFloat;
   if (text == "png") return DepthEncoding::kPng16;
+  if (text == "rvl") return DepthEncoding::kRvl;
   return std::nullopt;
 }
 

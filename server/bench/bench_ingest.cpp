@@ -1,7 +1,7 @@
 // semfuse-bench ingest: the server benchmark, end to end over loopback DDS (server/app/README.md).
 //  - Starts a real semfuse-server (default map settings, no --map) on its own domain with the
 //    loopback profile, and stops it with SIGTERM at the end, on error and on Ctrl-C.
-//  - Preloads the 7-Scenes redkitchen frames, encoded once (depth raw 16UC1 or png16, colour
+//  - Preloads the 7-Scenes redkitchen frames, encoded once (depth raw 16UC1, png16 or rvl, colour
 //    JPEG), so that the publishers spend no CPU on codecs during the measurement: on a 2-core
 //    host every cycle the bench burns is taken from the server.
 //  - For 1, 2 and 4 cameras at 30 Hz each (camera k replays the sequence from an offset of k/N
@@ -84,7 +84,7 @@ const bool ingest_registered = registerBench(
       command.add_option("--rate", options->rate_hz, "frames per second per camera")->capture_default_str();
       command.add_option("--cameras", options->cameras, "camera counts to run")->delimiter(',')->capture_default_str();
       command.add_option("--depth", options->depth, "depth encoding on the wire")
-          ->check(CLI::IsMember({"raw", "png"}))
+          ->check(CLI::IsMember({"raw", "png", "rvl"}))
           ->capture_default_str();
       command
           .add_option("--raycast-duration", options->raycast_duration_s,

@@ -95,7 +95,7 @@ const bool load_registered = registerBench(
       command.add_option("--frames", options->frames, "frames to preload (the cameras replay them)")
           ->capture_default_str();
       command.add_option("--depth", options->depth, "depth encoding on the wire")
-          ->check(CLI::IsMember({"raw", "png"}))
+          ->check(CLI::IsMember({"raw", "png", "rvl"}))
           ->capture_default_str();
       command.add_option("--duration", options->duration_s, "seconds of load")->capture_default_str();
       command.add_option("--camera-rate", options->camera_hz, "frames per second per camera")->capture_default_str();

@@ -114,6 +114,24 @@ TEST_F(CameraPublisherTest, CompressedEncodingsAndNoPoseDecodeToTheSameFrame) {
   EXPECT_LT(cv::norm(decoded.value().color, frame.color, cv::NORM_L1) / (64.0 * 48 * 3), 3.0);  // JPEG is close
 }
 
+TEST_F(CameraPublisherTest, RvlDepthIsLosslessMillimetresAndSmallerThanRaw) {
+  const Frame frame = testFrame();
+  ASSERT_EQ(parseDepthEncoding("rvl"), DepthEncoding::kRvl);
+  const auto msg = roundTrip(frame, {DepthEncoding::kRvl, ColorEncoding::kNone, 90});
+  EXPECT_STREQ(msg->depth_encoding, "rvl");
+  EXPECT_FLOAT_EQ(msg->depth_scale, 0.001F);
+  EXPECT_STREQ(msg->color_encoding, "");
+  EXPECT_LT(msg->depth._length, 64u * 48u * 2u / 2u) << "a smooth ramp takes about a nibble a pixel";
+  auto decoded = wire::decodeFrame(*msg);
+  ASSERT_TRUE(decoded.ok()) << decoded.error();
+  // The same millimetres as the raw encoding gives.
+  const auto raw = roundTrip(frame, {DepthEncoding::kRaw16, ColorEncoding::kNone, 90});
+  auto raw_decoded = wire::decodeFrame(*raw);
+  ASSERT_TRUE(raw_decoded.ok()) << raw_decoded.error();
+  EXPECT_EQ(cv::norm(decoded.value().depth, raw_decoded.value().depth, cv::NORM_INF), 0.0);
+  EXPECT_EQ(decoded.value().depth.at<float>(5, 7), 0.0F);  // the hole
+}
+
 TEST_F(CameraPublisherTest, RejectsAFrameThatIsNotDepthInMetres) {
   Frame frame = testFrame();
   frame.depth.convertTo(frame.depth, CV_16UC1, 1000.0);

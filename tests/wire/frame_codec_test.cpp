@@ -4,6 +4,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "semfuse/wire/rvl_codec.hpp"
 #include "test_frames.hpp"
 
 namespace semfuse::wire {
@@ -62,7 +63,8 @@ TEST_P(FrameRoundTrip, DecodesWhatWasEncoded) {
 
 INSTANTIATE_TEST_SUITE_P(AllEncodings, FrameRoundTrip,
                          ::testing::Values(Case{"16UC1", "rgb8"}, Case{"32FC1", "bgr8"}, Case{"png16", "png"},
-                                           Case{"16UC1", "jpeg"}, Case{"png16", ""}, Case{"32FC1", "jpeg"}),
+                                           Case{"16UC1", "jpeg"}, Case{"png16", ""}, Case{"32FC1", "jpeg"},
+                                           Case{"rvl", "jpeg"}, Case{"rvl", ""}),
                          [](const ::testing::TestParamInfo<Case>& info) {
                            return info.param.depth + "_" + (info.param.color.empty() ? "none" : info.param.color);
                          });
@@ -113,7 +115,7 @@ TEST(FrameCodec, EncoderRejectsWrongImageTypesAndEncodings) {
   encoding.depth = "16UC2";
   auto bad_encoding = encodeFrame(in, encoding);
   ASSERT_FALSE(bad_encoding.ok());
-  EXPECT_EQ(bad_encoding.error(), "depth: unknown encoding '16UC2' (known: 16UC1, 32FC1, png16)");
+  EXPECT_EQ(bad_encoding.error(), "depth: unknown encoding '16UC2' (known: 16UC1, 32FC1, png16, rvl)");
   in.depth.convertTo(in.depth, CV_64F);
   auto bad_type = encodeFrame(in);
   ASSERT_FALSE(bad_type.ok());
@@ -186,7 +188,7 @@ TEST_F(BadFrame, NonOrthonormalPoseReportsTheError) {
 
 TEST_F(BadFrame, UnknownEncodingsListTheKnownOnes) {
   msg().depth_encoding = const_cast<char*>("mono16");
-  EXPECT_EQ(decodeError(), "depth: unknown encoding 'mono16' (known: 16UC1, 32FC1, png16)");
+  EXPECT_EQ(decodeError(), "depth: unknown encoding 'mono16' (known: 16UC1, 32FC1, png16, rvl)");
   msg().depth_encoding = const_cast<char*>("16UC1");
   msg().color_encoding = const_cast<char*>("yuv422");
   EXPECT_EQ(decodeError(), "color: unknown encoding 'yuv422' (known: \"\", rgb8, bgr8, jpeg, png)");
@@ -232,6 +234,54 @@ TEST(FrameCodecPayloads, PngThatDoesNotDecodeOrHasOtherSize) {
   auto wrong_depth = decodeFrame(msg);
   ASSERT_FALSE(wrong_depth.ok());
   EXPECT_EQ(wrong_depth.error(), "depth: PNG decodes to 64x48 8UC1, declared 64x48 16UC1");
+}
+
+TEST(FrameCodec, RvlCarriesTheUnitsWithTheScale) {
+  // 0.25 mm units: the payload is the RVL image of the units, decoded with the frame's scale.
+  Frame in = makeFrame(5, 3, false);
+  in.depth.at<float>(1, 2) = 0.00025f * 4001;
+  FrameEncoding encoding;
+  encoding.depth = "rvl";
+  encoding.depth_scale = 0.00025;
+  auto encoded = encodeFrame(in, encoding);
+  ASSERT_TRUE(encoded.ok()) << encoded.error();
+  const auto& msg = encoded.value().msg();
+  EXPECT_FLOAT_EQ(msg.depth_scale, 0.00025f);
+  auto units = decodeRvl(msg.depth._buffer, msg.depth._length, cv::Size(5, 3));
+  ASSERT_TRUE(units.ok()) << units.error();
+  EXPECT_EQ(units.value().at<uint16_t>(1, 2), 4001);
+  EXPECT_EQ(units.value().at<uint16_t>(0, 0), 0);     // (x + y) % 11 == 0: no depth
+  EXPECT_EQ(units.value().at<uint16_t>(0, 1), 2028);  // 507 mm
+  auto out = decodeFrame(msg);
+  ASSERT_TRUE(out.ok()) << out.error();
+  EXPECT_NEAR(out.value().depth.at<float>(1, 2), 1.00025f, 1e-6f);
+  EXPECT_EQ(out.value().depth.at<float>(0, 0), 0.0f);
+}
+
+TEST(FrameCodecPayloads, RvlOfAnotherSizeOrDamagedIsRefused) {
+  FrameEncoding encoding;
+  encoding.depth = "rvl";
+  auto encoded = encodeFrame(makeFrame(), encoding);
+  ASSERT_TRUE(encoded.ok());
+  auto& msg = encoded.value().msg();
+  const auto saved = msg.depth;
+  msg.intrinsics.width = 32;  // the payload holds 64x48
+  EXPECT_EQ(decodeFrame(msg).error(), "depth: RVL declares 64x48, frame declares 32x48");
+  msg.intrinsics.width = 64;
+  msg.depth._length = 5;
+  EXPECT_EQ(decodeFrame(msg).error(), "depth: RVL payload of 5 bytes is shorter than its 8-byte size header");
+  msg.depth._length = saved._length - 4;  // the last word
+  EXPECT_EQ(decodeFrame(msg).error().rfind("depth: RVL payload ends at pixel ", 0), 0u) << decodeFrame(msg).error();
+  std::vector<uint8_t> longer(saved._buffer, saved._buffer + saved._length);
+  longer.insert(longer.end(), {0, 0, 0, 0});
+  msg.depth._buffer = longer.data();
+  msg.depth._length = msg.depth._maximum = static_cast<uint32_t>(longer.size());
+  EXPECT_EQ(decodeFrame(msg).error(), "depth: RVL payload has 4 bytes after the last pixel");
+  msg.depth = saved;
+  msg.depth_scale = std::nanf("");
+  EXPECT_EQ(decodeFrame(msg).error(), "depth: depth_scale must be finite and > 0 for rvl, got nan");
+  msg.depth_scale = 0.001f;
+  EXPECT_TRUE(decodeFrame(msg).ok());
 }
 
 TEST(FrameCodecPayloads, TruncatedPngsAreRefused) {

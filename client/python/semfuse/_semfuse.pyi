@@ -581,7 +581,7 @@ class Segmenter:
 class CameraPublisher:
     """Publishes RGB-D frames for the server to fuse (and segmenters to label)."""
 
-    def __init__(self, camera_id: str = "python", depth_encoding: Literal["raw", "float", "png"] = "raw",
+    def __init__(self, camera_id: str = "python", depth_encoding: Literal["raw", "float", "png", "rvl"] = "raw",
                  color_encoding: Literal["none", "raw", "jpeg", "png"] = "jpeg", jpeg_quality: int = 90,
                  participant: Participant | None = None, domain_id: int | None = None) -> None: ...
     def publish(self, depth: npt.NDArray[np.floating] | npt.NDArray[np.uint16], intrinsics: Intrinsics,

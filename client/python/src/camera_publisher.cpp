@@ -35,7 +35,7 @@ class CameraPublisher {
     if (camera_id_.empty()) throw py::value_error("camera_id must not be empty");
     client::CameraPublisherOptions options;
     const auto depth = client::parseDepthEncoding(depth_encoding);
-    if (!depth) throw py::value_error("depth_encoding must be raw, float or png, not '" + depth_encoding + "'");
+    if (!depth) throw py::value_error("depth_encoding must be raw, float, png or rvl, not '" + depth_encoding + "'");
     const auto color = client::parseColorEncoding(color_encoding);
     if (!color) throw py::value_error("color_encoding must be none, raw, jpeg or png, not '" + color_encoding + "'");
     if (jpeg_quality < 1 || jpeg_quality > 100) throw py::value_error("jpeg_quality must be in 1..100");
@@ -127,7 +127,8 @@ Without a pose the server tracks the camera against the map.
       .def(py::init<std::string, const std::string&, const std::string&, int, const py::object&, std::optional<int>>(),
            py::arg("camera_id") = "python", py::arg("depth_encoding") = "raw", py::arg("color_encoding") = "jpeg",
            py::arg("jpeg_quality") = 90, py::arg("participant") = py::none(), py::arg("domain_id") = py::none(),
-           "Encodings on the wire: depth raw (16-bit mm), float (32-bit m) or png; colour none, raw, jpeg or png.")
+           "Encodings on the wire: depth raw (16-bit mm), float (32-bit m), png or rvl (both lossless 16-bit mm, rvl "
+           "the cheaper for the server to decode); colour none, raw, jpeg or png.")
       .def("publish", &CameraPublisher::publish, py::arg("depth"), py::arg("intrinsics"), py::arg("color") = py::none(),
            py::arg("pose") = py::none(), py::arg("seq") = py::none(), py::arg("stamp") = py::none(),
            py::arg("frame_id") = "", R"doc(

@@ -32,7 +32,7 @@ struct Options {
   std::optional<std::size_t> last;
   std::size_t stride = 1;
   bool no_poses = false;
-  std::string depth_encoding = "png";
+  std::string depth_encoding = "rvl";  // lossless, small, and the cheapest compressed depth to decode
   std::string color_encoding = "jpeg";
   int jpeg_quality = 90;
   std::string camera_id;
@@ -62,8 +62,8 @@ void addOptions(CLI::App& app, Options& o) {
   app.add_option("--last", o.last, "index of the last frame (default: the last one)");
   app.add_option("--stride", o.stride, "send every Nth frame")->check(CLI::PositiveNumber)->capture_default_str();
   app.add_flag("--no-poses", o.no_poses, "send frames without their poses (the server tracks them)");
-  app.add_option("--depth-encoding", o.depth_encoding, "raw (16-bit mm), float (32-bit m) or png")
-      ->check(CLI::IsMember({"raw", "float", "png"}))
+  app.add_option("--depth-encoding", o.depth_encoding, "raw (16-bit mm), float (32-bit m), png or rvl (16-bit mm)")
+      ->check(CLI::IsMember({"raw", "float", "png", "rvl"}))
       ->capture_default_str();
   app.add_option("--color-encoding", o.color_encoding, "none, raw, jpeg or png")
       ->check(CLI::IsMember({"none", "raw", "jpeg", "png"}))

@@ -9,6 +9,7 @@
 #include "semfuse/core/camera_check.hpp"
 #include "semfuse/wire/image_convert.hpp"
 #include "semfuse/wire/jpeg_decode.hpp"
+#include "semfuse/wire/rvl_codec.hpp"
 #include "semfuse/wire/validation.hpp"
 
 namespace semfuse::wire {
@@ -39,6 +40,7 @@ Result<std::vector<uint8_t>> encodeDepth(const cv::Mat& metres, const FrameEncod
   }
   const cv::Mat units = depthMetresToUnits(metres, encoding.depth_scale);
   if (encoding.depth == "16UC1") return bytesOf(units);
+  if (encoding.depth == "rvl") return encodeRvl(units);
   return encodeImage(".png", units, {cv::IMWRITE_PNG_COMPRESSION, encoding.png_compression});
 }
 
@@ -85,6 +87,17 @@ Result<cv::Mat> decodeDepth(const semfuse_msg_dds__Frame_& msg, uint32_t width, 
     if (Status s = validateDataSize("depth", bytes, width, height, encoding, 2); !s) return makeError(s.error());
     units.create(h, w, CV_16UC1);
     std::memcpy(units.data, sequenceData(msg.depth), bytes);
+  } else if (encoding == "rvl") {
+    auto declared = rvlDeclaredSize(sequenceData(msg.depth), bytes);
+    if (!declared) return makeError("depth: " + declared.error());
+    if (declared.value() != cv::Size(w, h)) {
+      return makeError("depth: RVL declares " + std::to_string(declared.value().width) + "x" +
+                       std::to_string(declared.value().height) + ", frame declares " + std::to_string(w) + "x" +
+                       std::to_string(h));
+    }
+    auto decoded = decodeRvl(sequenceData(msg.depth), bytes, cv::Size(w, h));
+    if (!decoded) return makeError("depth: " + decoded.error());
+    units = std::move(decoded).value();
   } else {  // png16
     auto declared = pngDeclaredSize(sequenceData(msg.depth), bytes);
     if (!declared) return makeError("depth: PNG payload does not decode: " + declared.error());
@@ -157,7 +170,7 @@ Result<cv::Mat> decodeColor(const semfuse_msg_dds__Frame_& msg, uint32_t width, 
 }  // namespace
 
 const std::vector<std::string>& depthEncodings() {
-  static const std::vector<std::string> names = {"16UC1", "32FC1", "png16"};
+  static const std::vector<std::string> names = {"16UC1", "32FC1", "png16", "rvl"};
   return names;
 }
 

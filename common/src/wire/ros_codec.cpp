@@ -125,7 +125,8 @@ Result<cv::Mat> compressedImageToMat(const sensor_msgs_msg_dds__CompressedImage_
   std::transform(format.begin(), format.end(), format.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   if (format.find("compresseddepth") != std::string::npos) {
-    return makeError("compressed image: format '" + format + "' (compressedDepth) is not supported; send 16UC1 PNG");
+    return makeError("compressed image: format '" + format +
+                     "' is compressedDepth, which only the compressed depth input reads");
   }
   const bool png = format.find("png") != std::string::npos;
   const bool jpeg = format.find("jpeg") != std::string::npos || format.find("jpg") != std::string::npos;

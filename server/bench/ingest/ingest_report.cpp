@@ -181,7 +181,7 @@ void printResults(const std::vector<RunResult>& runs, const IngestOptions& optio
   std::printf(
       "\nconditions: %zu 7-Scenes frames preloaded, depth %s (%.0f kB), colour jpeg (%.0f kB), poses given;"
       " %.0f s per run at %.0f Hz per camera; map reset before each run; %u cores\n",
-      data.frames.size(), options.depth == "png" ? "png16" : "raw 16UC1", data.depth_kb, data.color_kb,
+      data.frames.size(), depthWireEncoding(options.depth).c_str(), data.depth_kb, data.color_kb,
       options.duration_s, options.rate_hz, std::thread::hardware_concurrency());
 }
 

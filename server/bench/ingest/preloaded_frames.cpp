@@ -8,12 +8,16 @@
 
 namespace semfuse::bench::ingest {
 
+std::string depthWireEncoding(const std::string& option) {
+  return option == "png" ? "png16" : option == "rvl" ? "rvl" : "16UC1";
+}
+
 Result<Preloaded> preload(const IngestOptions& options) {
   auto reader = datasets::SevenScenesReader::open(options.data);
   if (!reader) return makeError("7-Scenes: " + reader.error());
   const auto& r = reader.value();
   wire::FrameEncoding encoding;
-  encoding.depth = options.depth == "png" ? "png16" : "16UC1";
+  encoding.depth = depthWireEncoding(options.depth);
   encoding.color = "jpeg";
   Preloaded out;
   out.intrinsics = r.intrinsics();

@@ -1,9 +1,10 @@
 #pragma once
-// The frames the ingest bench's cameras replay, encoded once (depth raw 16UC1 or png16, colour
+// The frames the ingest bench's cameras replay, encoded once (depth raw 16UC1, png16 or rvl, colour
 // JPEG) so that the publishers spend no CPU on codecs during the measurement: on a 2-core host
 // every cycle the bench burns is taken from the server. Each camera thread sends a shallow copy
 // of a message with its own camera_id, seq and stamp: the payload buffers are shared and only
 // read by dds_write.
+#include <string>
 #include <vector>
 
 #include "ingest_options.hpp"
@@ -22,5 +23,8 @@ struct Preloaded {
 
 // The first options.frames frames of the 7-Scenes sequence at options.data, which must carry poses.
 Result<Preloaded> preload(const IngestOptions& options);
+
+// The wire's depth encoding for --depth raw|png|rvl: "16UC1", "png16" or "rvl".
+std::string depthWireEncoding(const std::string& option);
 
 }  // namespace semfuse::bench::ingest

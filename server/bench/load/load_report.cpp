@@ -186,7 +186,7 @@ void printLoadReport(const LoadResult& result, const LoadOptions& options, const
   std::printf(
       "\nconditions: %zu 7-Scenes frames preloaded, depth %s (%.0f kB), colour jpeg (%.0f kB); %.0f s; cameras %.0f "
       "Hz; segmenters every %.0f-th frame; server %s\n",
-      data.frames.size(), options.depth == "png" ? "png16" : "raw 16UC1", data.depth_kb, data.color_kb,
+      data.frames.size(), ingest::depthWireEncoding(options.depth).c_str(), data.depth_kb, data.color_kb,
       result.duration_s, options.camera_hz, std::max(1.0, options.camera_hz / options.segmenter_hz),
       result.after.version.c_str());
 }

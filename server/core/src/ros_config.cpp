@@ -13,6 +13,11 @@ void addRosOptions(CLI::App& app, RosIngestConfig& c) {
   app.add_option("--ros.depth-topic", c.depth_topic, "sensor_msgs/Image depth, 16UC1 mm or 32FC1 m")
       ->group(ros)
       ->capture_default_str();
+  app.add_option("--ros.compressed-depth-topic", c.compressed_depth_topic,
+                 "sensor_msgs/CompressedImage depth, compressedDepth png or rvl; when set, read instead of "
+                 "--ros.depth-topic (\"\" = none)")
+      ->group(ros)
+      ->capture_default_str();
   app.add_option("--ros.camera-info-topic", c.camera_info_topic, "sensor_msgs/CameraInfo of the depth image")
       ->group(ros)
       ->capture_default_str();

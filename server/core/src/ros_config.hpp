@@ -13,7 +13,10 @@ struct RosIngestConfig {
   std::string camera_id = "ros";  // the semfuse camera these topics feed
 
   // ROS topic names (the DDS topic is "rt" + name). An empty name is not subscribed.
-  std::string depth_topic = "/camera/depth/image_raw";          // sensor_msgs/Image 16UC1 (mm) or 32FC1 (m)
+  std::string depth_topic = "/camera/depth/image_raw";  // sensor_msgs/Image 16UC1 (mm) or 32FC1 (m)
+  // sensor_msgs/CompressedImage compressedDepth (png or rvl). When set, the depth comes from it and
+  // depth_topic is not read: image_transport publishes every image on both.
+  std::string compressed_depth_topic;
   std::string camera_info_topic = "/camera/depth/camera_info";  // intrinsics of the depth image
   std::string color_topic = "/camera/color/image_raw";          // sensor_msgs/Image rgb8/bgr8, same size as depth
   std::string compressed_color_topic;                           // sensor_msgs/CompressedImage jpeg/png

@@ -56,7 +56,9 @@ RosFrameAssembler::Options assemblerOptions(const RosIngestConfig& c) {
 }
 
 const RosIngestConfig& checked(const RosIngestConfig& c) {
-  if (c.depth_topic.empty()) throw std::runtime_error("--ros.depth-topic: a depth topic is needed");
+  if (c.depth_topic.empty() && c.compressed_depth_topic.empty()) {
+    throw std::runtime_error("--ros.depth-topic or --ros.compressed-depth-topic: a depth topic is needed");
+  }
   if (c.camera_id.empty()) throw std::runtime_error("--ros.camera-id must not be empty");
   if (c.use_tf && c.world_frame.empty()) throw std::runtime_error("--ros.world-frame: needed with --ros.use-tf");
   if (c.pending_depth < 1 || c.pending_color < 1) throw std::runtime_error("--ros.pending-*: at least 1");
@@ -79,8 +81,14 @@ RosIngest::RosIngest(const dds::Participant& participant, const RosIngestConfig&
       stop_(participant),
       waitset_(participant) {
   const dds::Qos sensor = dds::qos::sensorData();
-  depth_ = std::make_unique<Input<sensor_msgs_msg_dds__Image_>>(participant, config_.depth_topic, sensor);
-  waitset_.attach(depth_->ready.handle());
+  if (config_.compressed_depth_topic.empty()) {
+    depth_ = std::make_unique<Input<sensor_msgs_msg_dds__Image_>>(participant, config_.depth_topic, sensor);
+    waitset_.attach(depth_->ready.handle());
+  } else {
+    compressed_depth_ = std::make_unique<Input<sensor_msgs_msg_dds__CompressedImage_>>(
+        participant, config_.compressed_depth_topic, sensor);
+    waitset_.attach(compressed_depth_->ready.handle());
+  }
   camera_info_ =
       std::make_unique<Input<sensor_msgs_msg_dds__CameraInfo_>>(participant, config_.camera_info_topic, sensor);
   waitset_.attach(camera_info_->ready.handle());
@@ -104,7 +112,9 @@ RosIngest::RosIngest(const dds::Participant& participant, const RosIngestConfig&
   }
   waitset_.attach(stop_.handle());
   spdlog::info("ROS 2 input: camera '{}' from {} ({}{}), CameraInfo {}, poses {}", config_.camera_id,
-               config_.depth_topic, config_.color_topic.empty() ? "no colour" : "colour " + config_.color_topic,
+               config_.compressed_depth_topic.empty() ? config_.depth_topic
+                                                      : config_.compressed_depth_topic + " (compressed depth)",
+               config_.color_topic.empty() ? "no colour" : "colour " + config_.color_topic,
                config_.compressed_color_topic.empty() ? "" : ", compressed " + config_.compressed_color_topic,
                config_.camera_info_topic,
                config_.use_tf ? "from tf " + config_.world_frame + " -> " +
@@ -154,23 +164,39 @@ void RosIngest::takeAll() {
   drain(color_, [this](const sensor_msgs_msg_dds__Image_& m) { onColor(m); });
   drain(compressed_color_, [this](const sensor_msgs_msg_dds__CompressedImage_& m) { onCompressedColor(m); });
   drain(depth_, [this](const sensor_msgs_msg_dds__Image_& m) { onDepth(m); });
+  drain(compressed_depth_, [this](const sensor_msgs_msg_dds__CompressedImage_& m) { onCompressedDepth(m); });
 }
 
+// A ROS frame arrives as two images, each decoded as it comes: each is a run of the frame decode
+// stage (a JPEG colour image is most of a frame's decode).
 void RosIngest::onDepth(const sensor_msgs_msg_dds__Image_& msg) {
   const uint64_t seq = next_seq_++;
   ++state_.frames_received;
   state_.frameArrived(config_.camera_id, seq);
-  // A ROS frame arrives as two images, each decoded as it comes: each is a run of the frame
-  // decode stage (a JPEG colour image is most of a frame's decode).
   const auto start = std::chrono::steady_clock::now();
   auto depth = wire::depthImageToMetres(msg);
   state_.stages.recordSince(Stage::kFrameDecode, start);
+  addDepth(msg.header, std::move(depth), seq, "ROS depth image ");
+}
+
+void RosIngest::onCompressedDepth(const sensor_msgs_msg_dds__CompressedImage_& msg) {
+  const uint64_t seq = next_seq_++;
+  ++state_.frames_received;
+  state_.frameArrived(config_.camera_id, seq);
+  const auto start = std::chrono::steady_clock::now();
+  auto depth = wire::compressedDepthToMetres(msg);
+  state_.stages.recordSince(Stage::kFrameDecode, start);
+  addDepth(msg.header, std::move(depth), seq, "ROS compressed depth image ");
+}
+
+void RosIngest::addDepth(const std_msgs_msg_dds__Header_& header, Result<cv::Mat> depth, uint64_t seq,
+                         const char* what) {
   if (!depth.ok()) {
-    state_.reject(reason::kInvalidFrame, config_.camera_id, "ROS depth image " + std::to_string(seq), depth.error());
+    state_.reject(reason::kInvalidFrame, config_.camera_id, what + std::to_string(seq), depth.error());
     return;
   }
-  if (auto dropped = assembler_.addDepth(seq, wire::stampOf(msg.header), text(msg.header.frame_id),
-                                         std::move(depth).value(), RosFrameAssembler::Clock::now())) {
+  if (auto dropped = assembler_.addDepth(seq, wire::stampOf(header), text(header.frame_id), std::move(depth).value(),
+                                         RosFrameAssembler::Clock::now())) {
     count(*dropped);
   }
 }

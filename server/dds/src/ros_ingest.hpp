@@ -1,6 +1,7 @@
 #pragma once
 // ROS 2 input and /tf output of the server (--ros-ingest). One thread waits on best-effort
-// readers of standard topics (sensor_msgs Image / CompressedImage / CameraInfo, tf2_msgs
+// readers of standard topics (sensor_msgs Image / CompressedImage (colour, or compressedDepth
+// PNG / RVL depth) / CameraInfo, tf2_msgs
 // TFMessage on /tf and /tf_static), decodes each sample, lets RosFrameAssembler pair them into
 // Frames and hands those to the same per-camera queue as the native ingest. Every image given
 // up is counted in ServerStatus with its reason. Poses the server uses go out on /tf.
@@ -9,11 +10,14 @@
 #include <mutex>
 #include <thread>
 
+#include <opencv2/core/mat.hpp>
+
 #include "frame_queue.hpp"
 #include "mapper.hpp"
 #include "ros_config.hpp"
 #include "ros_frame_assembler.hpp"
 #include "ros_tf_buffer.hpp"
+#include "semfuse/core/result.hpp"
 #include "semfuse/dds/participant.hpp"
 #include "semfuse/dds/reader.hpp"
 #include "semfuse/dds/topic.hpp"
@@ -27,7 +31,7 @@ namespace semfuse::server {
 
 class RosIngest {
  public:
-  // Throws std::runtime_error on an unusable configuration (empty depth topic, no world frame).
+  // Throws std::runtime_error on an unusable configuration (no depth topic, no world frame).
   RosIngest(const dds::Participant& participant, const RosIngestConfig& config, FrameQueue& frames, ServerState& state);
   ~RosIngest();
 
@@ -49,6 +53,9 @@ class RosIngest {
   void run();
   void takeAll();
   void onDepth(const sensor_msgs_msg_dds__Image_& msg);
+  void onCompressedDepth(const sensor_msgs_msg_dds__CompressedImage_& msg);
+  // A decoded depth image of either depth topic, or why it did not decode, to the assembler.
+  void addDepth(const std_msgs_msg_dds__Header_& header, Result<cv::Mat> depth, uint64_t seq, const char* what);
   void onColor(const sensor_msgs_msg_dds__Image_& msg);
   void onCompressedColor(const sensor_msgs_msg_dds__CompressedImage_& msg);
   void onCameraInfo(const sensor_msgs_msg_dds__CameraInfo_& msg);
@@ -65,6 +72,7 @@ class RosIngest {
   bool warned_tf_gap_ = false;
 
   std::unique_ptr<Input<sensor_msgs_msg_dds__Image_>> depth_;
+  std::unique_ptr<Input<sensor_msgs_msg_dds__CompressedImage_>> compressed_depth_;
   std::unique_ptr<Input<sensor_msgs_msg_dds__Image_>> color_;
   std::unique_ptr<Input<sensor_msgs_msg_dds__CompressedImage_>> compressed_color_;
   std::unique_ptr<Input<sensor_msgs_msg_dds__CameraInfo_>> camera_info_;

@@ -1,7 +1,8 @@
 #pragma once
 // Frame <-> semfuse::msg::dds_::Frame_. Encodings (the strings on the wire):
 //   depth:  "16UC1" raw units (depth_scale metres per unit), "32FC1" raw metres,
-//           "png16" 16-bit PNG of units (depth_scale metres per unit)
+//           "png16" 16-bit PNG of units, "rvl" RVL-compressed units (rvl_codec.hpp), both
+//           depth_scale metres per unit
 //   colour: "" none, "rgb8" / "bgr8" raw, "jpeg", "png"
 #include <string>
 #include <vector>
@@ -16,12 +17,12 @@ namespace semfuse::wire {
 
 using EncodedFrame = OwnedMessage<semfuse_msg_dds__Frame_>;
 
-const std::vector<std::string>& depthEncodings();  // 16UC1, 32FC1, png16
+const std::vector<std::string>& depthEncodings();  // 16UC1, 32FC1, png16, rvl
 const std::vector<std::string>& colorEncodings();  // "", rgb8, bgr8, jpeg, png
 
 struct FrameEncoding {
   std::string depth = "16UC1";
-  double depth_scale = 0.001;  // metres per unit for 16UC1 and png16
+  double depth_scale = 0.001;  // metres per unit for 16UC1, png16 and rvl
   std::string color = "rgb8";  // "" sends no colour; a frame without colour is sent as ""
   int jpeg_quality = 90;       // 0-100
   int png_compression = 1;     // 0-9: fast by default, depth PNGs gain little from more

@@ -2,6 +2,7 @@
 // ROS 2 standard messages (sensor_msgs Image / CompressedImage / CameraInfo, geometry_msgs
 // TransformStamped, std_msgs Header) <-> OpenCV / core types, so a ROS 2 camera can feed semfuse.
 // Colour images come out in RGB order (as everywhere in semfuse), whatever the ROS encoding.
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -33,8 +34,24 @@ Result<OwnedImage> matToImage(const cv::Mat& image, const std::string& encoding,
                               const std::string& frame_id);
 
 // CompressedImage with format containing "jpeg"/"jpg" or "png" (e.g. "rgb8; jpeg compressed bgr8").
-// Colour -> CV_8UC3 RGB; a 16-bit PNG -> CV_16UC1. ("compressedDepth" with its extra header is not read.)
+// Colour -> CV_8UC3 RGB; a 16-bit PNG -> CV_16UC1. ("compressedDepth" is refused: its payload
+// starts with a header of its own, which compressedDepthToMetres reads.)
 Result<cv::Mat> compressedImageToMat(const sensor_msgs_msg_dds__CompressedImage_& msg);
+
+// A depth image as ROS 2's compressed_depth_image_transport sends it, in metres (CV_32FC1, 0 = no
+// depth). Format "<encoding>; compressedDepth <png|rvl>" (a bare "compressedDepth" is PNG, as
+// that transport reads it). The data: a 12-byte configuration header (int32 0, "inverse depth";
+// float32 quantisation parameters a, b), then a 16-bit PNG or an RVL payload (rvl_codec.hpp) of
+// the image's size. Encoding 16UC1 / mono16: the values are millimetres; 32FC1: they are the
+// quantised inverse depth, depth = a / (value - b). Also a plain 16-bit PNG of millimetres
+// (compressed_image_transport's "16UC1; png compressed"). Every value is little-endian.
+Result<cv::Mat> compressedDepthToMetres(const sensor_msgs_msg_dds__CompressedImage_& msg);
+// Millimetres (CV_16UC1) -> "16UC1; compressedDepth <compression>" for "png" or "rvl", as that
+// transport writes it: what tests and the fuzz seeds send a server.
+Result<OwnedMessage<sensor_msgs_msg_dds__CompressedImage_>> compressedDepthFromMillimetres(
+    const cv::Mat& millimetres, const std::string& compression, Stamp stamp, const std::string& frame_id);
+// The size of compressedDepth's configuration header.
+inline constexpr std::size_t kCompressedDepthHeaderBytes = 12;
 
 // K = [fx 0 cx; 0 fy cy; 0 0 1] from k[0], k[4], k[2], k[5]; validated like any intrinsics.
 Result<PinholeIntrinsics> intrinsicsFromCameraInfo(const sensor_msgs_msg_dds__CameraInfo_& msg);
