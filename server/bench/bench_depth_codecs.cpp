@@ -76,8 +76,8 @@ struct EncodingResult {
   std::size_t mismatched_pixels = 0;  // against the raw encoding's decode
 };
 
-Result<EncodingResult> measureEncoding(const CodecSequence& sequence, const std::string& encoding, const DepthCodecOptions& o,
-                               const std::vector<cv::Mat>& reference) {
+Result<EncodingResult> measureEncoding(const CodecSequence& sequence, const std::string& encoding,
+                                       const DepthCodecOptions& o, const std::vector<cv::Mat>& reference) {
   EncodingResult result;
   result.encoding = encoding;
   wire::FrameEncoding wire_encoding;
@@ -172,8 +172,7 @@ int runCodecSequence(const CodecSequence& sequence, const DepthCodecOptions& o) 
 int runDepthCodecs(const DepthCodecOptions& o) {
   for (const std::string& encoding : o.encodings) {
     if (encoding != "raw" && encoding != "png" && encoding != "rvl") {
-      std::fprintf(stderr, "semfuse-bench depth-codecs: unknown encoding '%s' (raw, png, rvl)\n",
-                   encoding.c_str());
+      std::fprintf(stderr, "semfuse-bench depth-codecs: unknown encoding '%s' (raw, png, rvl)\n", encoding.c_str());
       return 2;
     }
   }
@@ -181,7 +180,7 @@ int runDepthCodecs(const DepthCodecOptions& o) {
   if (!o.seven_scenes.empty()) {
     auto reader = datasets::SevenScenesReader::open(o.seven_scenes);
     auto sequence = reader ? loadCodecSequence("7-Scenes " + std::filesystem::path(o.seven_scenes).filename().string(),
-                                          reader.value(), o.frames)
+                                               reader.value(), o.frames)
                            : Result<CodecSequence>(reader.errorInfo());
     if (!sequence) {
       std::fprintf(stderr, "semfuse-bench depth-codecs: %s\n", sequence.error().c_str());
@@ -191,9 +190,9 @@ int runDepthCodecs(const DepthCodecOptions& o) {
   }
   if (!o.tum.empty()) {
     auto reader = datasets::TumRgbdReader::open(o.tum);
-    auto sequence = reader ? loadCodecSequence("TUM " + std::filesystem::path(o.tum).filename().string(), reader.value(),
-                                          o.frames)
-                           : Result<CodecSequence>(reader.errorInfo());
+    auto sequence =
+        reader ? loadCodecSequence("TUM " + std::filesystem::path(o.tum).filename().string(), reader.value(), o.frames)
+               : Result<CodecSequence>(reader.errorInfo());
     if (!sequence) {
       std::fprintf(stderr, "semfuse-bench depth-codecs: %s\n", sequence.error().c_str());
       return 1;
@@ -206,8 +205,7 @@ int runDepthCodecs(const DepthCodecOptions& o) {
 }
 
 const bool depth_codecs_registered = registerBench(
-    "depth-codecs",
-    "bytes, encode and decode time of each depth encoding (raw, png, rvl) on 7-Scenes and TUM frames",
+    "depth-codecs", "bytes, encode and decode time of each depth encoding (raw, png, rvl) on 7-Scenes and TUM frames",
     [](CLI::App& command) {
       auto options = std::make_shared<DepthCodecOptions>();
       command.add_option("--seven-scenes", options->seven_scenes, "7-Scenes sequence folder (\"\" = skip)")

@@ -53,7 +53,7 @@ void expectHelp(const std::string& binary, const std::string& mentions) {
 
 TEST(CliUsage, CameraHelpAndBadUsage) {
   expectHelp(SEMFUSE_CAMERA_BIN, "--depth-encoding");
-  expectHelp(SEMFUSE_CAMERA_BIN, "[rvl]");                                         // the default depth encoding
+  expectHelp(SEMFUSE_CAMERA_BIN, "=rvl");                                          // the default depth encoding
   expectUsageError(SEMFUSE_CAMERA_BIN, "", "--source");                            // required option missing
   expectUsageError(SEMFUSE_CAMERA_BIN, "--source synthetic --bogus", "--source");  // unknown option
   expectUsageError(SEMFUSE_CAMERA_BIN, "--source synthetic --depth-encoding jpeg", "--depth-encoding");

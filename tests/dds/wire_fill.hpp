@@ -155,13 +155,12 @@ inline void fill(semfuse_msg_dds__TrackedPose_& m, Filler& f) {
   f.string(m.camera_id, "camera");
   m.seq = f.u64();
   m.state = 1;
-  m.integrated = true;
+  m.posed = true;
   f.doubles(m.camera_to_world);
   m.inlier_ratio = f.f32();
   m.residual = f.f32();
   m.iterations = f.u32();
   m.track_ms = f.f32();
-  m.integrate_ms = f.f32();
 }
 inline void fill(semfuse_msg_dds__Counter_& m, Filler& f) {
   f.string(m.reason, "reason");

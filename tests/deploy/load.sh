@@ -2,8 +2,8 @@
 # Load on loopback: 4 cameras at 30 Hz (7-Scenes replay with poses, or the synthetic room),
 # 2 segmenters (ADE20K DeepLab with 7-Scenes, noisy ground truth with the synthetic room) and a query client issuing raycasts back to back, for DURATION
 # seconds (default 15; the documented run is 120). Reports the server's peak RSS, drops by
-# reason, and queries answered; fails on an unexplained drop (frames that are neither integrated
-# nor counted under a reason), a rejected input, an unanswered query or RSS above MAX_RSS_MB.
+# reason, and queries answered; fails on an unexplained drop (frames that are neither posed
+# nor counted under a reason, posed frames neither integrated nor skipped for a newer one), a rejected input, an unanswered query or RSS above MAX_RSS_MB.
 #   load.sh <source dir> <build dir> <work dir> [DURATION] [MAX_RSS_MB]
 set -euo pipefail
 test_name=load
@@ -97,16 +97,18 @@ for i in "${!cameras[@]}"; do
   c=${cameras[$i]}
   frames=${sent[$c]}
   received=$(json "$f" "cam('$c')['frames_received']"); gaps=$(json "$f" "dropped('sequence_gap', '$c')")
-  integrated=$(json "$f" "cam('$c')['frames_integrated']")
+  posed=$(json "$f" "cam('$c')['frames_posed']"); integrated=$(json "$f" "cam('$c')['frames_integrated']")
+  skipped=$(json "$f" "cam('$c')['frames_skipped']")
   queue_full=$(json "$f" "dropped('queue_full', '$c')"); queue_stale=$(json "$f" "dropped('queue_stale', '$c')")
   lost=$(json "$f" "cam('$c')['frames_lost']"); last_seq=$(json "$f" "cam('$c')['last_seq']")
   first_sent=$(first_seq "$i"); last_sent=$(( first_sent + frames - 1 ))
   head_loss=$(( last_seq + 1 - received - gaps - first_sent ))
-  say "  $c: sent $frames ($(( frames / elapsed )) Hz), received $received, integrated $integrated, queue_full $queue_full, queue_stale $queue_stale, sequence gaps $gaps, head loss $head_loss, tracking lost $lost"
+  say "  $c: sent $frames ($(( frames / elapsed )) Hz), received $received, posed $posed (integrated $integrated, skipped $skipped), queue_full $queue_full, queue_stale $queue_stale, sequence gaps $gaps, head loss $head_loss, tracking lost $lost"
   (( last_seq == last_sent )) || fail "$c: the last frame ($last_sent) never arrived (last seen $last_seq)"
   (( head_loss >= 0 && head_loss <= 8 )) || fail "$c: $head_loss frames unaccounted for before the first received one"
-  (( integrated + queue_full + queue_stale + lost == received )) ||
-    fail "$c: integrated + queue_full + queue_stale + lost != received"
+  (( posed + queue_full + queue_stale + lost == received )) ||
+    fail "$c: posed + queue_full + queue_stale + lost != received"
+  (( integrated + skipped == posed )) || fail "$c: integrated + skipped != posed"
   (( integrated > 0 )) || fail "$c: nothing integrated"
 done
 say "  segmentations received $(json "$f" 'd["segmentations_received"]'), integrated $(json "$f" 'd["segmentations_integrated"]'), rejected (frame dropped) $(json "$f" 'rejected("unknown_frame")'); dropped by reason: $(json "$f" '{c["reason"] + ("/" + c["camera_id"] if c["camera_id"] else ""): c["count"] for c in d["dropped"]}')"

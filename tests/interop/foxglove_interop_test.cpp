@@ -324,14 +324,14 @@ TEST_F(FoxgloveInterop, FoxgloveReadsWhatSemfuseEncodes) {
   pose.stamp = {5, 6};
   pose.frame_id = "world";
   pose.state = PoseState::kTracked;
-  pose.integrated = true;
+  pose.posed = true;
   pose.camera_to_world.translation() = Eigen::Vector3d(1.5, -2.0, 0.25);
   pose.inlier_ratio = 0.75f;
   pose.iterations = 12;
   auto encoded_pose = wire::encodeTrackedPose(pose);
   expectFoxgloveReads("semfuse/TrackedPose", dds::serialize(encoded_pose.msg()),
                       "header.stamp.sec=5\nheader.stamp.nanosec=6\nheader.frame_id=\"world\"\ncamera_id=\"cam7\"\n"
-                      "seq=77\nstate=1\nintegrated=true\ncamera_to_world.length=12\ncamera_to_world[3]=1.5\n"
+                      "seq=77\nstate=1\nposed=true\ncamera_to_world.length=12\ncamera_to_world[3]=1.5\n"
                       "camera_to_world[7]=-2\ncamera_to_world[11]=0.25\ncamera_to_world[0]=1\ninlier_ratio=0.75\n"
                       "iterations=12\n");
 
@@ -467,7 +467,7 @@ TEST_F(FoxgloveInterop, ServerIntegratesFramesFoxgloveSerialized) {
 
   auto ros_pose = h.waitPose("fox-ros", 1, 30s);
   ASSERT_TRUE(ros_pose) << "the ROS frame was not integrated";
-  EXPECT_TRUE((*ros_pose)->integrated);
+  EXPECT_TRUE((*ros_pose)->posed);
   EXPECT_EQ((*ros_pose)->state, semfuse_msg_dds__TrackedPose_Constants_POSE_GIVEN);
   EXPECT_EQ((*ros_pose)->header.stamp.sec, 1700000000);
   EXPECT_EQ((*ros_pose)->header.stamp.nanosec, 123456789u);
@@ -497,7 +497,7 @@ TEST_F(FoxgloveInterop, ServerIntegratesFramesFoxgloveSerialized) {
   ASSERT_TRUE(depth.write(foxgloveEncode("sensor_msgs/Image", depth32_flat)).ok());
   auto second = h.waitPose("fox-ros", 2, 30s);
   ASSERT_TRUE(second) << "the 32FC1 + PNG frame was not integrated";
-  EXPECT_TRUE((*second)->integrated);
+  EXPECT_TRUE((*second)->posed);
   EXPECT_NEAR(wire::poseFromRowMajor((*second)->camera_to_world).translation().x(), 0.6, 1e-9);
 
   // Frame 3 has no colour: after --ros.wait it is dropped, and counted as ros_no_color.

@@ -177,7 +177,7 @@ def test_status_legend_and_poses(wall) -> None:
     poses = client.take_poses(timeout=2.0)
     assert [p.seq for p in poses] == list(range(FRAMES))
     for p in poses:
-        assert (p.camera_id, p.state, p.integrated) == ("wall", "given", True)
+        assert (p.camera_id, p.state, p.posed) == ("wall", "given", True)
         np.testing.assert_allclose(p.pose, wall_pose(p.seq), atol=1e-9)
     assert client.rejected_poses == 0
 

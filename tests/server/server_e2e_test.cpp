@@ -124,8 +124,8 @@ TEST_F(ServerEndToEnd, FusesLateSegmentationsAnswersQueriesAndResumesAfterRestar
   EXPECT_EQ(status->segmentations_integrated, static_cast<uint64_t>(kFrames));
   EXPECT_EQ(counterTotal(status->dropped), 0u);
   EXPECT_EQ(counterTotal(status->rejected), 0u);
-  // Where the time went: every frame decoded, queued, tracked and integrated once; every
-  // segmentation was sent after its frame's pose came, so each was fused on its own.
+  // Where the time went: every frame decoded, queued, tracked and integrated once (the server
+  // integrates every frame here, --max-queue-wait 0).
   std::map<std::string, const semfuse_msg_dds__StageTiming_*> stages;
   for (uint32_t i = 0; i < status->stages._length; ++i)
     stages[status->stages._buffer[i].stage] = &status->stages._buffer[i];
@@ -136,8 +136,13 @@ TEST_F(ServerEndToEnd, FusesLateSegmentationsAnswersQueriesAndResumesAfterRestar
     EXPECT_LE(stages[stage]->p50_ms, stages[stage]->p95_ms) << stage;
     EXPECT_LE(stages[stage]->p95_ms, stages[stage]->max_ms) << stage;
   }
+  // A pose is published before its frame is integrated, so a segmentation sent once the pose
+  // came may still be fused with its frame. Of each four held back, the first three were sent at
+  // least three poses after their frame's, when integration (at most 2 frames behind tracking
+  // here) had taken that frame: a label pass each.
   ASSERT_TRUE(stages.count("late_labels"));
-  EXPECT_EQ(stages["late_labels"]->count, static_cast<uint64_t>(kFrames));
+  EXPECT_GE(stages["late_labels"]->count, static_cast<uint64_t>(kFrames / 4));
+  EXPECT_LE(stages["late_labels"]->count, static_cast<uint64_t>(kFrames));
 
   // Raycast from a pose between two frames: labels agree with the ground truth.
   const Pose view_pose = sequence.config().trajectory.pose(10.5);

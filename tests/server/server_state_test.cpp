@@ -30,7 +30,7 @@ HistoryEntry makeEntry(const std::string& camera, uint64_t seq, int depth_pixels
   HistoryEntry e;
   e.camera_id = camera;
   e.seq = seq;
-  e.integrated = depth_pixels > 0;
+  e.posed = depth_pixels > 0;
   if (depth_pixels > 0) e.depth = cv::Mat(1, depth_pixels, CV_32FC1, cv::Scalar(1.0f));
   return e;
 }

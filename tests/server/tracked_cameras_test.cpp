@@ -40,7 +40,7 @@ synthetic::SequenceConfig sequenceConfig(const std::string& camera_id) {
 struct RecordedPose {
   std::string camera_id;
   uint64_t seq = 0;
-  bool integrated = false;
+  bool posed = false;
   Pose camera_to_world = Pose::Identity();
 };
 
@@ -57,7 +57,7 @@ std::vector<RecordedPose> readCsvTrajectory(const std::filesystem::path& file) {
     RecordedPose pose;
     pose.camera_id = fields[0];
     pose.seq = std::stoull(fields[1]);
-    pose.integrated = fields[4] == "1";
+    pose.posed = fields[4] == "1";
     const Eigen::Quaterniond q(std::stod(fields[11]), std::stod(fields[8]), std::stod(fields[9]),
                                std::stod(fields[10]));
     pose.camera_to_world.linear() = q.normalized().toRotationMatrix();
@@ -143,7 +143,7 @@ TEST_F(TrackedCameras, ASecondCameraWithoutPoseJoinsTheMapAndTheTrajectoryIsReco
   const Pose world_from_synthetic = a.pose(0).inverse();
   std::map<std::string, int> integrated;
   for (const RecordedPose& pose : recorded) {
-    if (!pose.integrated) continue;
+    if (!pose.posed) continue;
     ++integrated[pose.camera_id];
     const Pose truth = world_from_synthetic * a.pose(static_cast<int>(pose.seq));
     const Pose error = truth.inverse() * pose.camera_to_world;

@@ -96,12 +96,12 @@ TEST(PageMessages, PosesAreColumnMajorMatricesAsThreeJsTakesThem) {
   TrackedPose pose;
   pose.camera_id = "cam0";
   pose.seq = 7;
-  pose.integrated = true;
+  pose.posed = true;
   pose.camera_to_world.translation() = Eigen::Vector3d(1.5, -2, 0.25);
   const std::string json = posesJson({pose});
   // Column-major: the translation is elements 12-14.
   EXPECT_NE(json.find(R"("m":[1,0,0,0,0,1,0,0,0,0,1,0,1.5,-2,0.25,1])"), std::string::npos) << json;
-  EXPECT_NE(json.find(R"("camera":"cam0","seq":7,"integrated":true,"state":"given")"), std::string::npos) << json;
+  EXPECT_NE(json.find(R"("camera":"cam0","seq":7,"posed":true,"state":"given")"), std::string::npos) << json;
 }
 
 TEST(PageMessages, TheRaycastIsAPngOfLegendColoursBlackWhereNothingWasHit) {

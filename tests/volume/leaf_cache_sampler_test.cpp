@@ -23,8 +23,8 @@ cv::Mat patternImage(const PinholeIntrinsics& k) {
   cv::Mat color(k.height, k.width, CV_8UC3);
   for (int v = 0; v < k.height; ++v)
     for (int u = 0; u < k.width; ++u)
-      color.at<cv::Vec3b>(v, u) = cv::Vec3b(static_cast<uint8_t>(3 * u), static_cast<uint8_t>(5 * v),
-                                            static_cast<uint8_t>((u * v) % 251));
+      color.at<cv::Vec3b>(v, u) =
+          cv::Vec3b(static_cast<uint8_t>(3 * u), static_cast<uint8_t>(5 * v), static_cast<uint8_t>((u * v) % 251));
   return color;
 }
 
@@ -35,8 +35,8 @@ LabeledVolume fusedScene(bool with_color) {
   LabeledVolume volume(params);
   const PinholeIntrinsics k = smallCamera();
   const Eigen::Vector3d centre(0.05, 0.0, 0.9);
-  for (const Eigen::Vector3d& eye : {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0.2, 0.1, 0.05),
-                                     Eigen::Vector3d(-0.2, -0.1, 0.1)}) {
+  for (const Eigen::Vector3d& eye :
+       {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0.2, 0.1, 0.05), Eigen::Vector3d(-0.2, -0.1, 0.1)}) {
     const Pose pose = lookAt(eye, Eigen::Vector3d(0.0, 0.0, 1.2));
     cv::Mat depth = testing::renderPlane(k, pose, Eigen::Vector3d(0, 0, -1), -1.2);
     const cv::Mat sphere = testing::renderSphere(k, pose, centre, 0.12);
@@ -136,9 +136,8 @@ TEST(LeafCacheSampler, NonFiniteAndFarPointsAreUnobserved) {
   LeafCacheSampler cached(volume);
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const float inf = std::numeric_limits<float>::infinity();
-  for (const Eigen::Vector3f& p : {Eigen::Vector3f(nan, 0, 1), Eigen::Vector3f(0, inf, 1),
-                                   Eigen::Vector3f(0, 0, -inf), Eigen::Vector3f(3e7f, 0, 1),
-                                   Eigen::Vector3f(0, -1e30f, 1)}) {
+  for (const Eigen::Vector3f& p : {Eigen::Vector3f(nan, 0, 1), Eigen::Vector3f(0, inf, 1), Eigen::Vector3f(0, 0, -inf),
+                                   Eigen::Vector3f(3e7f, 0, 1), Eigen::Vector3f(0, -1e30f, 1)}) {
     float d = 0;
     Eigen::Vector3f g;
     EXPECT_FALSE(cached.tsdfAndGradient(p, d, g)) << p.transpose();

@@ -63,7 +63,7 @@ TEST(TrackedPoseCodec, RoundTripAndUnknownState) {
   in.camera_id = "cam1";
   in.seq = 5;
   in.state = PoseState::kTracked;
-  in.integrated = true;
+  in.posed = true;
   in.camera_to_world.translation() = Eigen::Vector3d(1, 2, 3);
   in.inlier_ratio = 0.75f;
   in.iterations = 12;

@@ -54,7 +54,8 @@ Bytes pngOf(const cv::Mat& units) {
 cv::Mat millimetres() {
   cv::Mat mm(48, 64, CV_16UC1);
   for (int y = 0; y < mm.rows; ++y) {
-    for (int x = 0; x < mm.cols; ++x) mm.at<uint16_t>(y, x) = (x * y) % 7 == 3 ? 0 : static_cast<uint16_t>(800 + x + 3 * y);
+    for (int x = 0; x < mm.cols; ++x)
+      mm.at<uint16_t>(y, x) = (x * y) % 7 == 3 ? 0 : static_cast<uint16_t>(800 + x + 3 * y);
   }
   return mm;
 }
@@ -77,8 +78,8 @@ TEST(RosCompressedDepth, TheBytesAreTheTransportsLayout) {
   EXPECT_EQ(Bytes(msg.data._buffer, msg.data._buffer + msg.data._length), expected);
 
   Bytes data = expected;
-  for (const std::string format : {"16UC1; compressedDepth rvl", "mono16; compressedDepth rvl",
-                                   "16uc1;compresseddepth RVL"}) {
+  for (const std::string format :
+       {"16UC1; compressedDepth rvl", "mono16; compressedDepth rvl", "16uc1;compresseddepth RVL"}) {
     auto metres = compressedDepthToMetres(compressedDepth(format, data));
     ASSERT_TRUE(metres.ok()) << format << ": " << metres.error();
     ASSERT_EQ(metres.value().type(), CV_32FC1);

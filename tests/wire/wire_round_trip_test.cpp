@@ -94,13 +94,12 @@ TEST(WireRoundTrip, TrackedPose) {
   in.stamp = {100, 5};
   in.frame_id = "world";
   in.state = PoseState::kRefined;
-  in.integrated = true;
+  in.posed = true;
   in.camera_to_world = testPose();
   in.inlier_ratio = 0.875f;
   in.residual = 0.0125f;
   in.iterations = 14;
   in.track_ms = 5.25f;
-  in.integrate_ms = 3.5f;
   auto out = decodeTrackedPose(*overTheWire(encodeTrackedPose(in).msg()));
   ASSERT_TRUE(out.ok()) << out.error();
   const TrackedPose& p = out.value();
@@ -110,13 +109,12 @@ TEST(WireRoundTrip, TrackedPose) {
   EXPECT_EQ(p.stamp.nanosec, 5u);
   EXPECT_EQ(p.frame_id, "world");
   EXPECT_EQ(p.state, PoseState::kRefined);
-  EXPECT_TRUE(p.integrated);
+  EXPECT_TRUE(p.posed);
   EXPECT_EQ(p.camera_to_world.matrix(), in.camera_to_world.matrix());
   EXPECT_EQ(p.inlier_ratio, 0.875f);
   EXPECT_EQ(p.residual, 0.0125f);
   EXPECT_EQ(p.iterations, 14u);
   EXPECT_EQ(p.track_ms, 5.25f);
-  EXPECT_EQ(p.integrate_ms, 3.5f);
 }
 
 TEST(WireRoundTrip, ObjectEvents) {
@@ -167,7 +165,9 @@ ServerStatus testStatus() {
   s.version = "1.2.3";
   s.uptime_s = 3600.5;
   s.frames_received = 1000;
+  s.frames_posed = 1000;
   s.frames_integrated = 990;
+  s.frames_skipped = 7;
   s.frames_lost = 3;
   s.segmentations_received = 500;
   s.segmentations_integrated = 480;
@@ -182,8 +182,8 @@ ServerStatus testStatus() {
   s.allocated_blocks = 4321;
   s.map_bytes = 987654321;
   s.rss_bytes = 1ull << 31;
-  s.cameras = {{"cam0", 1, 1000, 1000, 990, 3, 29.5F, 0.25F, false, "", 0, 2},
-               {"cam1", 3, 8, 9, 0, 9, 0.0F, 12.0F, true, "not placed in the map yet", 9, 0}};
+  s.cameras = {{"cam0", 1, 1000, 1000, 995, 990, 5, 3, 29.5F, 0.25F, false, "", 0, 2},
+               {"cam1", 3, 8, 9, 0, 0, 0, 9, 0.0F, 12.0F, true, "not placed in the map yet", 9, 0}};
   s.last_errors = {{12.5, "query raycast", "layers must be ..."}, {13.0, "admin", "disk full"}};
   s.map_file = "/var/lib/semfuse/map.vdb";
   s.last_save_ok = true;
@@ -197,7 +197,9 @@ void expectSameStatus(const ServerStatus& in, const ServerStatus& out) {
   EXPECT_EQ(out.version, in.version);
   EXPECT_EQ(out.uptime_s, in.uptime_s);
   EXPECT_EQ(out.frames_received, in.frames_received);
+  EXPECT_EQ(out.frames_posed, in.frames_posed);
   EXPECT_EQ(out.frames_integrated, in.frames_integrated);
+  EXPECT_EQ(out.frames_skipped, in.frames_skipped);
   EXPECT_EQ(out.frames_lost, in.frames_lost);
   EXPECT_EQ(out.segmentations_received, in.segmentations_received);
   EXPECT_EQ(out.segmentations_integrated, in.segmentations_integrated);
@@ -227,7 +229,9 @@ void expectSameStatus(const ServerStatus& in, const ServerStatus& out) {
     EXPECT_EQ(b.tracking_state, a.tracking_state);
     EXPECT_EQ(b.last_seq, a.last_seq);
     EXPECT_EQ(b.frames_received, a.frames_received);
+    EXPECT_EQ(b.frames_posed, a.frames_posed);
     EXPECT_EQ(b.frames_integrated, a.frames_integrated);
+    EXPECT_EQ(b.frames_skipped, a.frames_skipped);
     EXPECT_EQ(b.frames_lost, a.frames_lost);
     EXPECT_EQ(b.frame_rate_hz, a.frame_rate_hz);
     EXPECT_EQ(b.last_frame_age_s, a.last_frame_age_s);

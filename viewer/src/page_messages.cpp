@@ -130,8 +130,8 @@ std::string posesJson(const std::vector<TrackedPose>& poses) {
     const Eigen::Matrix4d m = pose.camera_to_world.matrix();
     for (int col = 0; col < 4; ++col)
       for (int row = 0; row < 4; ++row) matrix += (matrix.empty() ? "" : ",") + number(m(row, col));
-    items += fmt::format(R"({{"camera":{},"seq":{},"integrated":{},"state":{},"m":[{}]}})", jsonString(pose.camera_id),
-                         pose.seq, pose.integrated ? "true" : "false",
+    items += fmt::format(R"({{"camera":{},"seq":{},"posed":{},"state":{},"m":[{}]}})", jsonString(pose.camera_id),
+                         pose.seq, pose.posed ? "true" : "false",
                          jsonString(trackingStateName(static_cast<uint8_t>(pose.state))), matrix);
   }
   return R"({"type":"poses","poses":[)" + items + "]}";

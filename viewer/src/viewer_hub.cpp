@@ -139,7 +139,7 @@ void ViewerHub::tick(std::chrono::milliseconds wait) {
     {
       std::lock_guard lock(mutex_);
       for (const TrackedPose& pose : poses)
-        if (pose.integrated) trajectory_.push_back(pose);
+        if (pose.posed) trajectory_.push_back(pose);
       if (trajectory_.size() > kMaxTrajectoryPoses) {
         // Keep every other pose of the older half: the path stays, its detail thins out.
         std::vector<TrackedPose> thinned;

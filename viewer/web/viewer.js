@@ -197,7 +197,7 @@ function onPoses(poses) {
     const view = cameraView(pose.camera);
     view.seq = pose.seq;
     view.state = pose.state;
-    if (!pose.integrated) continue;
+    if (!pose.posed) continue;
     const m = new THREE.Matrix4().fromArray(pose.m);
     view.frustum.matrix.copy(m);
     view.path.push(new THREE.Vector3().setFromMatrixPosition(m));

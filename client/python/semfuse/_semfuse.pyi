@@ -97,7 +97,8 @@ class TrackedPose:
     @property
     def state(self) -> Literal["given", "tracked", "refined", "lost", "unknown"]: ...
     @property
-    def integrated(self) -> bool: ...
+    def posed(self) -> bool:
+        """True when the frame has a pose and goes to the map; False when tracking is lost."""
     @property
     def pose(self) -> npt.NDArray[np.float64]:
         """Camera-to-world, 4x4."""
@@ -109,8 +110,6 @@ class TrackedPose:
     def iterations(self) -> int: ...
     @property
     def track_ms(self) -> float: ...
-    @property
-    def integrate_ms(self) -> float: ...
 
 class ReasonCount:
     """How many inputs were dropped or rejected for one reason."""
@@ -134,7 +133,14 @@ class CameraStatus:
     @property
     def frames_received(self) -> int: ...
     @property
-    def frames_integrated(self) -> int: ...
+    def frames_posed(self) -> int:
+        """Frames given or tracked a pose."""
+    @property
+    def frames_integrated(self) -> int:
+        """Of the posed frames, those fused."""
+    @property
+    def frames_skipped(self) -> int:
+        """Of the posed frames, those integration passed over for a newer one (labels still fused)."""
     @property
     def frames_lost(self) -> int: ...
     @property
@@ -188,7 +194,11 @@ class ServerStatus:
     @property
     def frames_received(self) -> int: ...
     @property
+    def frames_posed(self) -> int: ...
+    @property
     def frames_integrated(self) -> int: ...
+    @property
+    def frames_skipped(self) -> int: ...
     @property
     def frames_lost(self) -> int: ...
     @property

@@ -94,8 +94,9 @@ void bindTrackedPose(py::module_& m) {
       .def_readonly("frame_id", &TrackedPose::frame_id)
       .def_property_readonly(
           "state", [](const TrackedPose& p) { return std::string(trackingStateName(static_cast<uint8_t>(p.state))); },
-          "'given' (the frame's own pose), 'tracked', 'refined' or 'lost' (not integrated).")
-      .def_readonly("integrated", &TrackedPose::integrated)
+          "'given' (the frame's own pose), 'tracked', 'refined' or 'lost' (no pose, not integrated).")
+      .def_readonly("posed", &TrackedPose::posed,
+                    "True when the frame has a pose and goes to the map; False when tracking is lost.")
       .def_property_readonly(
           "pose", [](const TrackedPose& p) { return poseToArray(p.camera_to_world); },
           "Camera-to-world, a 4x4 float64 array.")
@@ -103,7 +104,6 @@ void bindTrackedPose(py::module_& m) {
       .def_readonly("residual", &TrackedPose::residual)
       .def_readonly("iterations", &TrackedPose::iterations)
       .def_readonly("track_ms", &TrackedPose::track_ms)
-      .def_readonly("integrate_ms", &TrackedPose::integrate_ms)
       .def("__repr__", [](const TrackedPose& p) {
         const auto t = p.camera_to_world.translation();
         return "semfuse.TrackedPose(camera_id='" + p.camera_id + "', seq=" + std::to_string(p.seq) + ", state='" +
@@ -128,7 +128,10 @@ void bindStatus(py::module_& m) {
           "'given', 'tracked', 'refined' or 'lost'.")
       .def_readonly("last_seq", &CameraStatus::last_seq)
       .def_readonly("frames_received", &CameraStatus::frames_received)
-      .def_readonly("frames_integrated", &CameraStatus::frames_integrated)
+      .def_readonly("frames_posed", &CameraStatus::frames_posed, "Frames given or tracked a pose.")
+      .def_readonly("frames_integrated", &CameraStatus::frames_integrated, "Of the posed frames, those fused.")
+      .def_readonly("frames_skipped", &CameraStatus::frames_skipped,
+                    "Of the posed frames, those integration passed over for a newer one (labels still fused).")
       .def_readonly("frames_lost", &CameraStatus::frames_lost)
       .def_readonly("frame_rate_hz", &CameraStatus::frame_rate_hz)
       .def_readonly("last_frame_age_s", &CameraStatus::last_frame_age_s)
@@ -166,7 +169,9 @@ void bindStatus(py::module_& m) {
       .def_readonly("version", &ServerStatus::version)
       .def_readonly("uptime_s", &ServerStatus::uptime_s)
       .def_readonly("frames_received", &ServerStatus::frames_received)
+      .def_readonly("frames_posed", &ServerStatus::frames_posed)
       .def_readonly("frames_integrated", &ServerStatus::frames_integrated)
+      .def_readonly("frames_skipped", &ServerStatus::frames_skipped)
       .def_readonly("frames_lost", &ServerStatus::frames_lost)
       .def_readonly("segmentations_received", &ServerStatus::segmentations_received)
       .def_readonly("segmentations_integrated", &ServerStatus::segmentations_integrated)
@@ -186,9 +191,10 @@ void bindStatus(py::module_& m) {
       .def_readonly("map_file", &ServerStatus::map_file)
       .def_readonly("last_save_ok", &ServerStatus::last_save_ok)
       .def_readonly("last_save_age_s", &ServerStatus::last_save_age_s, "Negative: never saved.")
-      .def_readonly("stages", &ServerStatus::stages,
-                    "Where the server's time goes: frame_decode, frame_queue, track, integrate, late_labels, "
-                    "map_update, distance_field (those that ran).")
+      .def_readonly(
+          "stages", &ServerStatus::stages,
+          "Where the server's time goes: frame_decode, frame_queue, track, integration_queue, integrate, late_labels, "
+          "map_update, distance_field (those that ran).")
       .def(
           "dropped_count",
           [](const ServerStatus& s, const std::optional<std::string>& reason,

@@ -259,8 +259,8 @@ class Query {
       for (const TrackedPose& pose : map_.takePoses(std::chrono::milliseconds(200))) {
         if (!o_.camera.empty() && pose.camera_id != o_.camera) continue;
         last_pose = std::chrono::steady_clock::now();
-        if (!pose.integrated) ++lost;
-        if (!pose.integrated && !o_.include_lost) continue;
+        if (!pose.posed) ++lost;
+        if (!pose.posed && !o_.include_lost) continue;
         if (o_.max_poses > 0 && written >= o_.max_poses) break;
         file << tools::trajectoryLine(pose, *format);
         ++written;
@@ -274,7 +274,7 @@ class Query {
     }
     if (per_camera.size() > 1 && *format != tools::TrajectoryFormat::kCsv)
       spdlog::warn("{} cameras in one {} file: pass --camera to record one trajectory", per_camera.size(), o_.format);
-    spdlog::info("{} poses written to {}, {} frames lost (not integrated){}", written, o_.out, lost,
+    spdlog::info("{} poses written to {}, {} frames lost (no pose){}", written, o_.out, lost,
                  map_.rejectedPoses() > 0 ? fmt::format(", {} malformed poses left out", map_.rejectedPoses()) : "");
     return cli::kExitOk;
   }
@@ -425,7 +425,7 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   poses->add_flag("--include-lost", o.include_lost,
-                  "also write frames that were not integrated (at the camera's last pose; csv says which)");
+                  "also write frames whose tracking was lost (at the camera's last pose; csv says which)");
 
   tools::DistanceOptions distance_options;
   const tools::DistanceCommands distance_commands(app, distance_options);

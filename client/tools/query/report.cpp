@@ -38,6 +38,11 @@ std::string framesJson(const std::vector<FrameRef>& frames) {
   return jsonArray(items);
 }
 
+// The share of posed frames integration passed over: what the cores could not integrate.
+std::string skippedShare(uint64_t skipped, uint64_t posed) {
+  return posed == 0 || skipped == 0 ? "" : fmt::format(", {:.0f} %", 100.0 * static_cast<double>(skipped) / posed);
+}
+
 }  // namespace
 
 std::string labelName(const LabelLegend& legend, LabelId id) {
@@ -47,8 +52,10 @@ std::string labelName(const LabelLegend& legend, LabelId id) {
 
 std::string statusTable(const client::ServerStatus& s) {
   std::string out = fmt::format("server {} (version {}), up {:.0f} s\n", s.server_id, s.version, s.uptime_s);
-  out += fmt::format("  frames         received {:>8}  integrated {:>8}  lost {:>6}  queued {}\n", s.frames_received,
-                     s.frames_integrated, s.frames_lost, s.queued_frames);
+  out +=
+      fmt::format("  frames         received {:>8}  posed {:>8} (integrated {}, skipped {}{})  lost {:>6}  queued {}\n",
+                  s.frames_received, s.frames_posed, s.frames_integrated, s.frames_skipped,
+                  skippedShare(s.frames_skipped, s.frames_posed), s.frames_lost, s.queued_frames);
   out += fmt::format("  segmentations  received {:>8}  integrated {:>8}  pending {}\n", s.segmentations_received,
                      s.segmentations_integrated, s.pending_segmentations);
   out += fmt::format("  map            {} voxels in {} blocks, {:.1f} MiB, voxel {:.3f} m, truncation {:.3f} m\n",
@@ -61,10 +68,12 @@ std::string statusTable(const client::ServerStatus& s) {
   out += counterLines("rejected", s.rejected);
   for (const auto& c : s.cameras) {
     out += fmt::format(
-        "  camera {:<12} {:<8} last seq {:>6}  received {:>6}  integrated {:>6}  lost {:>4}  relocalised {:>3}  "
-        "{:.1f} Hz{}\n",
-        c.camera_id, client::trackingStateName(c.tracking_state), c.last_seq, c.frames_received, c.frames_integrated,
-        c.frames_lost, c.relocalisations, c.frame_rate_hz, c.stale ? "  (stale)" : "");
+        "  camera {:<12} {:<8} last seq {:>6}  received {:>6}  posed {:>6}  integrated {:>6}  skipped {:>5}  lost "
+        "{:>4}  "
+        "relocalised {:>3}  {:.1f} Hz{}\n",
+        c.camera_id, client::trackingStateName(c.tracking_state), c.last_seq, c.frames_received, c.frames_posed,
+        c.frames_integrated, c.frames_skipped, c.frames_lost, c.relocalisations, c.frame_rate_hz,
+        c.stale ? "  (stale)" : "");
     if (!c.lost_reason.empty())
       out += fmt::format("         lost for {} frames: {}\n", c.frames_since_lost, c.lost_reason);
   }
@@ -85,7 +94,9 @@ std::string statusJson(const client::ServerStatus& s) {
                           .field("tracking_state", client::trackingStateName(c.tracking_state))
                           .field("last_seq", c.last_seq)
                           .field("frames_received", c.frames_received)
+                          .field("frames_posed", c.frames_posed)
                           .field("frames_integrated", c.frames_integrated)
+                          .field("frames_skipped", c.frames_skipped)
                           .field("frames_lost", c.frames_lost)
                           .field("frame_rate_hz", static_cast<double>(c.frame_rate_hz))
                           .field("last_frame_age_s", static_cast<double>(c.last_frame_age_s))
@@ -115,7 +126,9 @@ std::string statusJson(const client::ServerStatus& s) {
       .field("version", s.version)
       .field("uptime_s", s.uptime_s)
       .field("frames_received", s.frames_received)
+      .field("frames_posed", s.frames_posed)
       .field("frames_integrated", s.frames_integrated)
+      .field("frames_skipped", s.frames_skipped)
       .field("frames_lost", s.frames_lost)
       .field("segmentations_received", s.segmentations_received)
       .field("segmentations_integrated", s.segmentations_integrated)

@@ -21,8 +21,7 @@ std::string trajectoryHeader(TrajectoryFormat format) {
     case TrajectoryFormat::kKitti:
       return "";
     case TrajectoryFormat::kCsv:
-      return "camera_id,seq,stamp,state,integrated,tx,ty,tz,qx,qy,qz,qw,inlier_ratio,residual_m,iterations,track_ms,"
-             "integrate_ms\n";
+      return "camera_id,seq,stamp,state,posed,tx,ty,tz,qx,qy,qz,qw,inlier_ratio,residual_m,iterations,track_ms\n";
   }
   return "";
 }
@@ -44,11 +43,10 @@ std::string trajectoryLine(const TrackedPose& pose, TrajectoryFormat format) {
       return line + "\n";
     }
     case TrajectoryFormat::kCsv:
-      return fmt::format(
-          "{},{},{},{},{},{:.6f},{:.6f},{:.6f},{:.9f},{:.9f},{:.9f},{:.9f},{:.4f},{:.6f},{},{:.3f},{:.3f}\n",
-          pose.camera_id, pose.seq, stamp, client::trackingStateName(static_cast<uint8_t>(pose.state)),
-          pose.integrated ? 1 : 0, t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w(), pose.inlier_ratio, pose.residual,
-          pose.iterations, pose.track_ms, pose.integrate_ms);
+      return fmt::format("{},{},{},{},{},{:.6f},{:.6f},{:.6f},{:.9f},{:.9f},{:.9f},{:.9f},{:.4f},{:.6f},{},{:.3f}\n",
+                         pose.camera_id, pose.seq, stamp, client::trackingStateName(static_cast<uint8_t>(pose.state)),
+                         pose.posed ? 1 : 0, t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w(), pose.inlier_ratio,
+                         pose.residual, pose.iterations, pose.track_ms);
   }
   return "";
 }

@@ -117,13 +117,12 @@ EncodedTrackedPose encodeTrackedPose(const TrackedPose& pose) {
   msg.camera_id = encoded.keepString(pose.camera_id);
   msg.seq = pose.seq;
   msg.state = static_cast<uint8_t>(pose.state);
-  msg.integrated = pose.integrated;
+  msg.posed = pose.posed;
   poseToRowMajor(pose.camera_to_world, msg.camera_to_world);
   msg.inlier_ratio = pose.inlier_ratio;
   msg.residual = pose.residual;
   msg.iterations = pose.iterations;
   msg.track_ms = pose.track_ms;
-  msg.integrate_ms = pose.integrate_ms;
   return encoded;
 }
 
@@ -138,7 +137,7 @@ Result<TrackedPose> decodeTrackedPose(const semfuse_msg_dds__TrackedPose_& msg) 
   pose.stamp = {msg.header.stamp.sec, msg.header.stamp.nanosec};
   pose.frame_id = stringOf(msg.header.frame_id);
   pose.state = static_cast<PoseState>(msg.state);
-  pose.integrated = msg.integrated;
+  pose.posed = msg.posed;
   pose.camera_to_world = poseFromRowMajor(msg.camera_to_world);
   // A lost frame may carry any placeholder; a used pose must be a rigid transform.
   if (pose.state != PoseState::kLost) {
@@ -148,7 +147,6 @@ Result<TrackedPose> decodeTrackedPose(const semfuse_msg_dds__TrackedPose_& msg) 
   pose.residual = msg.residual;
   pose.iterations = msg.iterations;
   pose.track_ms = msg.track_ms;
-  pose.integrate_ms = msg.integrate_ms;
   return pose;
 }
 

@@ -167,8 +167,8 @@ Result<cv::Mat> compressedDepthToMetres(const sensor_msgs_msg_dds__CompressedIma
   const float a = loadFloat(data + 4), b = loadFloat(data + 8);
   data += kCompressedDepthHeaderBytes;
   size -= kCompressedDepthHeaderBytes;
-  auto units = format.value().compression == DepthCompression::kRvl ? decodeDepthRvl(data, size)
-                                                                     : decodeDepthPng(data, size);
+  auto units =
+      format.value().compression == DepthCompression::kRvl ? decodeDepthRvl(data, size) : decodeDepthPng(data, size);
   if (!units) return units;
   if (format.value().encoding == "32fc1") return inverseDepthToMetres(units.value(), a, b);
   return depthUnitsToMetres(units.value(), 0.001);

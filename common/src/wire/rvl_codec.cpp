@@ -140,7 +140,8 @@ Status decodeStream(NibbleReader& reader, uint16_t* out, std::size_t pixels) {
     if (VleRead r = reader.readVariable(zeros); r != VleRead::kOk) return makeError(readError(r, pixel, pixels));
     // Only the first pair may start on a non-zero pixel: a later one follows a non-zero run that
     // stopped at a zero.
-    if (zeros == 0 && !first) return makeError("RVL payload has an empty run of zeros at pixel " + std::to_string(pixel));
+    if (zeros == 0 && !first)
+      return makeError("RVL payload has an empty run of zeros at pixel " + std::to_string(pixel));
     if (zeros > pixels - pixel) return makeError(overflowError("zero", zeros, pixel, pixels));
     std::fill_n(out + pixel, zeros, uint16_t{0});
     pixel += zeros;

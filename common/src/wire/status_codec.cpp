@@ -40,7 +40,9 @@ void encodeServerStatus(const ServerStatus& s, Stamp stamp, semfuse_msg_dds__Ser
   dds::setString(out.version, s.version);
   out.uptime_s = s.uptime_s;
   out.frames_received = s.frames_received;
+  out.frames_posed = s.frames_posed;
   out.frames_integrated = s.frames_integrated;
+  out.frames_skipped = s.frames_skipped;
   out.frames_lost = s.frames_lost;
   out.segmentations_received = s.segmentations_received;
   out.segmentations_integrated = s.segmentations_integrated;
@@ -64,7 +66,9 @@ void encodeServerStatus(const ServerStatus& s, Stamp stamp, semfuse_msg_dds__Ser
     c.tracking_state = a.tracking_state;
     c.last_seq = a.last_seq;
     c.frames_received = a.frames_received;
+    c.frames_posed = a.frames_posed;
     c.frames_integrated = a.frames_integrated;
+    c.frames_skipped = a.frames_skipped;
     c.frames_lost = a.frames_lost;
     c.frame_rate_hz = a.frame_rate_hz;
     c.last_frame_age_s = a.last_frame_age_s;
@@ -103,7 +107,9 @@ Result<ServerStatus> decodeServerStatus(const semfuse_msg_dds__ServerStatus_& ms
   s.version = stringOf(msg.version);
   s.uptime_s = msg.uptime_s;
   s.frames_received = msg.frames_received;
+  s.frames_posed = msg.frames_posed;
   s.frames_integrated = msg.frames_integrated;
+  s.frames_skipped = msg.frames_skipped;
   s.frames_lost = msg.frames_lost;
   s.segmentations_received = msg.segmentations_received;
   s.segmentations_integrated = msg.segmentations_integrated;
@@ -127,9 +133,22 @@ Result<ServerStatus> decodeServerStatus(const semfuse_msg_dds__ServerStatus_& ms
     return makeError(ok.error());
   for (uint32_t i = 0; i < msg.cameras._length; ++i) {
     const auto& c = msg.cameras._buffer[i];
-    s.cameras.push_back({stringOf(c.camera_id), c.tracking_state, c.last_seq, c.frames_received, c.frames_integrated,
-                         c.frames_lost, c.frame_rate_hz, c.last_frame_age_s, c.stale, stringOf(c.lost_reason),
-                         c.frames_since_lost, c.relocalisations});
+    CameraStatus camera;
+    camera.camera_id = stringOf(c.camera_id);
+    camera.tracking_state = c.tracking_state;
+    camera.last_seq = c.last_seq;
+    camera.frames_received = c.frames_received;
+    camera.frames_posed = c.frames_posed;
+    camera.frames_integrated = c.frames_integrated;
+    camera.frames_skipped = c.frames_skipped;
+    camera.frames_lost = c.frames_lost;
+    camera.frame_rate_hz = c.frame_rate_hz;
+    camera.last_frame_age_s = c.last_frame_age_s;
+    camera.stale = c.stale;
+    camera.lost_reason = stringOf(c.lost_reason);
+    camera.frames_since_lost = c.frames_since_lost;
+    camera.relocalisations = c.relocalisations;
+    s.cameras.push_back(std::move(camera));
   }
   if (Status ok = validateSequence("status last_errors", msg.last_errors._length, msg.last_errors._maximum,
                                    msg.last_errors._buffer);

@@ -17,8 +17,9 @@ struct BenchServer {
   int domain = 0;
 };
 
-// domain -1 = one derived from this process's pid.
+// domain -1 = one derived from this process's pid. cpus: a CPU list the server runs on
+// (taskset -c), "" for every core.
 Result<BenchServer> startBenchServer(const std::string& executable, int domain,
-                                     const std::vector<std::string>& extra_args);
+                                     const std::vector<std::string>& extra_args, const std::string& cpus = "");
 
 }  // namespace semfuse::bench::ingest

@@ -27,16 +27,19 @@ std::vector<UpdateArrival> FollowedUpdates::arrivals() {
 }
 
 Timings updateLatencies(const std::vector<PoseRecord>& poses, const std::vector<UpdateArrival>& arrivals) {
-  std::vector<double> integrated_at;
+  std::vector<double> posed_at;
   for (const PoseRecord& p : poses)
-    if (p.integrated) integrated_at.push_back(p.received_ms);
-  std::sort(integrated_at.begin(), integrated_at.end());
+    if (p.posed) posed_at.push_back(p.received_ms);
+  std::sort(posed_at.begin(), posed_at.end());
   Timings latency;
   std::size_t u = 0;
-  for (std::size_t i = 0; i < integrated_at.size(); ++i) {
-    while (u < arrivals.size() && arrivals[u].frames_integrated < i + 1) ++u;
-    if (u == arrivals.size()) break;
-    latency.add(std::max(0.0, arrivals[u].received_ms - integrated_at[i]));
+  uint64_t before = 0;  // frames integrated in the last update received before the pose
+  for (double at : posed_at) {
+    while (u < arrivals.size() && arrivals[u].received_ms < at) before = arrivals[u++].frames_integrated;
+    std::size_t next = u;
+    while (next < arrivals.size() && arrivals[next].frames_integrated <= before) ++next;
+    if (next == arrivals.size()) break;
+    latency.add(arrivals[next].received_ms - at);
   }
   return latency;
 }

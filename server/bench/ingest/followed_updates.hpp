@@ -31,8 +31,9 @@ class FollowedUpdates {
   client::MapFollower follower_;  // last: its listener writes the members above
 };
 
-// Frame integrated (its pose received) -> the first update received whose map includes it. The
-// map must have been reset before the poses: then the i-th integrated frame is the map's i-th.
+// A frame's pose received -> the first update received after it that holds more integrated
+// frames than the one before the pose: how stale a follower's map is behind the camera (the pose
+// comes before its frame's integration, and a frame integration skipped is followed by a newer).
 Timings updateLatencies(const std::vector<PoseRecord>& poses, const std::vector<UpdateArrival>& arrivals);
 
 }  // namespace semfuse::bench::ingest

@@ -64,9 +64,9 @@ void printResults(const std::vector<RunResult>& runs, const IngestOptions& optio
     r.push_back(target);
     m.add(std::move(r));
   };
-  auto integrated = [](const RunResult& run) {
+  auto posed = [](const RunResult& run) {
     return static_cast<std::size_t>(
-        std::count_if(run.poses.begin(), run.poses.end(), [](const auto& p) { return p.integrated; }));
+        std::count_if(run.poses.begin(), run.poses.end(), [](const auto& p) { return p.posed; }));
   };
   row(
       "frames sent (publishers)",
@@ -86,7 +86,7 @@ void printResults(const std::vector<RunResult>& runs, const IngestOptions& optio
       "server received (status)",
       [](const RunResult& r) { return std::to_string(r.after.frames_received - r.before.frames_received); }, "= sent");
   row(
-      "integrated/s (poses topic)", [&](const RunResult& r) { return formatNumber(integrated(r) / r.duration_s, 1); },
+      "posed/s (poses topic)", [&](const RunResult& r) { return formatNumber(posed(r) / r.duration_s, 1); },
       "30 x cameras");
   row(
       "integrated/s (status)",
@@ -117,21 +117,13 @@ void printResults(const std::vector<RunResult>& runs, const IngestOptions& optio
       },
       "p50 <= 30");
   row(
-      "server track+integrate ms p50/p95",
+      "server track ms p50/p95",
       [](const RunResult& r) {
         Timings t;
-        for (const auto& p : r.poses) t.add(p.server_ms);
+        for (const auto& p : r.poses) t.add(p.track_ms);
         return t.count() ? formatNumber(t.median(), 1) + " / " + formatNumber(t.p95(), 1) : std::string("-");
       },
       "(from TrackedPose)");
-  row(
-      "fusion busy: sum(track+integrate) / run",
-      [](const RunResult& r) {
-        double busy = 0;
-        for (const auto& p : r.poses) busy += p.server_ms;
-        return formatNumber(busy / (r.duration_s * 10.0), 0) + " %";
-      },
-      "< 100 %");
   row(
       "server CPU (100 % = 1 core)", [](const RunResult& r) { return formatNumber(r.cpu_percent, 0) + " %"; },
       "of 200 % here");
@@ -143,7 +135,7 @@ void printResults(const std::vector<RunResult>& runs, const IngestOptions& optio
           return formatNumber(r.update_latency_ms.median(), 0) + " / " + formatNumber(r.update_latency_ms.p95(), 0) +
                  " (" + std::to_string(r.map_updates) + " updates)";
         },
-        "p50 <= 300 (frame integrated -> update received)");
+        "p50 <= 300 (pose received -> next update with more frames)");
   }
   row(
       "server RSS peak MiB", [](const RunResult& r) { return formatNumber(r.rss_peak_mib, 0); }, "bounded");
@@ -181,8 +173,8 @@ void printResults(const std::vector<RunResult>& runs, const IngestOptions& optio
   std::printf(
       "\nconditions: %zu 7-Scenes frames preloaded, depth %s (%.0f kB), colour jpeg (%.0f kB), poses given;"
       " %.0f s per run at %.0f Hz per camera; map reset before each run; %u cores\n",
-      data.frames.size(), depthWireEncoding(options.depth).c_str(), data.depth_kb, data.color_kb,
-      options.duration_s, options.rate_hz, std::thread::hardware_concurrency());
+      data.frames.size(), depthWireEncoding(options.depth).c_str(), data.depth_kb, data.color_kb, options.duration_s,
+      options.rate_hz, std::thread::hardware_concurrency());
 }
 
 }  // namespace semfuse::bench::ingest

@@ -35,9 +35,7 @@ void PoseCollector::loop() {
           std::chrono::duration<double, std::milli>(std::chrono::system_clock::now().time_since_epoch()).count();
       const double sent_ms = pose.header.stamp.sec * 1e3 + pose.header.stamp.nanosec * 1e-6;
       std::lock_guard lock(mutex_);
-      records_.push_back({wire::stringOf(pose.camera_id), pose.integrated, now_ms - sent_ms,
-                          static_cast<double>(pose.track_ms) + pose.integrate_ms, pose.track_ms, pose.integrate_ms,
-                          now_ms});
+      records_.push_back({wire::stringOf(pose.camera_id), pose.posed, now_ms - sent_ms, pose.track_ms, now_ms});
     }));
   }
 }

@@ -17,11 +17,10 @@ namespace semfuse::bench::ingest {
 
 struct PoseRecord {
   std::string camera_id;
-  bool integrated = false;
+  bool posed = false;  // false: tracking lost
   double latency_ms = 0;
-  double server_ms = 0;  // track_ms + integrate_ms: the fusion thread's work on the frame
-  double track_ms = 0, integrate_ms = 0;
-  double received_ms = 0;  // system clock when it arrived (the frame was integrated just before)
+  double track_ms = 0;     // the tracking thread's work on the frame
+  double received_ms = 0;  // system clock when it arrived
 };
 
 class PoseCollector {

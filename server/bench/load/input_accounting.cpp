@@ -8,7 +8,7 @@ namespace {
 
 // The reasons under which the server counts a frame, and those under which it counts a
 // segmentation (server/core/src/server_state.hpp).
-const std::set<std::string> kFrameDrops{"queue_full", "queue_stale", "sequence_gap", "tracking_lost"};
+const std::set<std::string> kFrameDrops{"queue_full", "queue_stale", "sequence_gap", "tracking_lost", "map_replaced"};
 const std::set<std::string> kFrameRejections{"invalid_frame", "integration_failed"};
 const std::set<std::string> kSegmentationDrops{"frame_dropped", "pending_full", "segmentation_timeout",
                                                "unknown_frame"};
@@ -46,7 +46,10 @@ int64_t sum(const std::map<std::string, int64_t>& counts) {
 }  // namespace
 
 int64_t InputAccount::unaccounted() const {
-  return sent - integrated - held - head_loss - sum(dropped) - sum(rejected);
+  // A frame map_replaced was posed and is counted among the drops as well.
+  const int64_t replaced = dropped.count("map_replaced") ? dropped.at("map_replaced") : 0;
+  const int64_t used = frames ? posed - replaced : integrated;
+  return sent - used - held - head_loss - sum(dropped) - sum(rejected);
 }
 
 std::vector<InputAccount> accountInputs(const LoadResult& result) {
@@ -59,7 +62,9 @@ std::vector<InputAccount> accountInputs(const LoadResult& result) {
     const client::CameraStatus* after = findCamera(result.after, camera.camera_id);
     if (after) {
       row.received = static_cast<int64_t>(after->frames_received - (before ? before->frames_received : 0));
+      row.posed = static_cast<int64_t>(after->frames_posed - (before ? before->frames_posed : 0));
       row.integrated = static_cast<int64_t>(after->frames_integrated - (before ? before->frames_integrated : 0));
+      row.skipped = static_cast<int64_t>(after->frames_skipped - (before ? before->frames_skipped : 0));
     }
     row.dropped = deltas(result.before.dropped, result.after.dropped, kFrameDrops, camera.camera_id);
     row.rejected = deltas(result.before.rejected, result.after.rejected, kFrameRejections, camera.camera_id);
@@ -77,6 +82,7 @@ std::vector<InputAccount> accountInputs(const LoadResult& result) {
 
   InputAccount segmentations;
   segmentations.what = "segmentations";
+  segmentations.frames = false;
   for (const auto& s : result.segmenters) segmentations.sent += static_cast<int64_t>(s.published);
   segmentations.received =
       static_cast<int64_t>(result.after.segmentations_received - result.before.segmentations_received);

@@ -1,7 +1,8 @@
 #pragma once
 // Where every frame and segmentation of a load run ended, from the server's status counters
-// (deltas over the run) beside what the bench sent: integrated, dropped or rejected under a
-// reason, still held, or unaccounted (lost without a counted reason: the figure that must be 0).
+// (deltas over the run) beside what the bench sent: posed and then integrated or skipped,
+// dropped or rejected under a reason, still held, or unaccounted (lost without a counted reason:
+// the figure that must be 0).
 #include <cstdint>
 #include <map>
 #include <string>
@@ -17,8 +18,9 @@ namespace semfuse::bench::load {
 inline constexpr int64_t kMaxHeadLoss = dds::qos::kFrameIngestDepth;
 
 struct InputAccount {
-  std::string what;  // a camera id, or "segmentations"
-  int64_t sent = 0, received = 0, integrated = 0, held = 0;
+  std::string what;    // a camera id, or "segmentations"
+  bool frames = true;  // a camera's frames (posed, then integrated or skipped); else segmentations
+  int64_t sent = 0, received = 0, posed = 0, integrated = 0, skipped = 0, held = 0;
   std::map<std::string, int64_t> dropped, rejected;  // by reason, nonzero only
   // Frames sent before the first one the server received: overwritten in its DDS reader while
   // the ingest was busy. No sequence gap can reveal them to the server (it has no earlier frame of

@@ -8,8 +8,15 @@
 
 namespace semfuse::bench::load {
 
+// What runs at once: one robot (a tracked camera, its segmenter, light queries, a map follower)
+// or the full service (posed and tracked cameras, two segmenters, queries at video rates).
+enum class Scenario { kRobot, kFull };
+
 struct LoadOptions {
+  Scenario scenario = Scenario::kFull;
   std::string server = ingest::IngestOptions{}.server;
+  std::string server_cpus;     // taskset's CPU list for the server ("" = every core)
+  bool compare_cores = false;  // the run twice: the server on CPU 0 alone, then on every core
   std::string data = redkitchenDir().string();
   std::size_t frames = 500;  // preloaded 7-Scenes frames the cameras replay
   std::string depth = "raw";

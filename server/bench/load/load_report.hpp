@@ -13,6 +13,9 @@ namespace semfuse::bench::load {
 
 void printLoadReport(const LoadResult& result, const LoadOptions& options, const ingest::Preloaded& data);
 
+// Two runs of the same load, the server on CPU 0 alone and on every core: throughput and its ratio.
+void printCoreComparison(const LoadResult& one_core, const LoadResult& every_core);
+
 // What --check fails on; empty when the run passes.
 std::vector<std::string> checkFailures(const LoadResult& result);
 

@@ -72,6 +72,7 @@ RssSummary RssTimeline::summary() {
   s.non_map_slope_mib_per_min = slopePerMinute(all, [](const RssSample& x) { return x.rss_mib - x.map_mib; });
   const std::vector<RssSample> late(all.begin() + static_cast<std::ptrdiff_t>(all.size() / 2), all.end());
   s.late_slope_mib_per_min = slopePerMinute(late, [](const RssSample& x) { return x.rss_mib; });
+  s.late_non_map_slope_mib_per_min = slopePerMinute(late, [](const RssSample& x) { return x.rss_mib - x.map_mib; });
   return s;
 }
 

@@ -25,6 +25,7 @@ struct RssSummary {
   // Over the second half of the run: buffers that fill once (frame history, queues, snapshots)
   // make the start steep; a leak keeps the second half rising.
   double late_slope_mib_per_min = 0;
+  double late_non_map_slope_mib_per_min = 0;  // RSS minus the map, second half
   double map_start_mib = 0, map_end_mib = 0;
   std::size_t samples = 0;
 };

@@ -17,9 +17,11 @@ namespace semfuse::server {
 struct HistoryEntry {
   std::string camera_id;
   uint64_t seq = 0;
-  bool integrated = false;  // false: tracking lost, the frame changed nothing in the map
+  // Has depth and a pose its labels can be fused at (integrated, or skipped for a newer frame of
+  // its camera); false: tracking lost or the frame rejected, it has no geometry.
+  bool posed = false;
   PinholeIntrinsics intrinsics;
-  cv::Mat depth;  // CV_32FC1 metres; empty when not integrated
+  cv::Mat depth;  // CV_32FC1 metres; empty when not posed
   Pose camera_to_world = Pose::Identity();
 
   size_t bytes() const { return depth.total() * depth.elemSize() + sizeof(*this); }

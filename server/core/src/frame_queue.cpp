@@ -39,16 +39,39 @@ void FrameQueue::passOverStale(CameraQueue& camera, std::chrono::steady_clock::t
 }
 
 std::optional<Frame> FrameQueue::pop(std::chrono::milliseconds timeout, Duration* waited, std::vector<Frame>* stale) {
-  std::unique_lock lock(mutex_);
-  ready_.wait_for(lock, timeout, [this] { return total_ > 0 || woken_; });
-  woken_ = false;
-  if (total_ == 0) return std::nullopt;
+  return take(timeout, waited, stale, false);
+}
 
-  // Round robin: the first non-empty queue after the camera served last.
+std::optional<Frame> FrameQueue::claim(std::chrono::milliseconds timeout, Duration* waited, std::vector<Frame>* stale) {
+  return take(timeout, waited, stale, true);
+}
+
+void FrameQueue::release(const std::string& camera_id) {
+  {
+    std::lock_guard lock(mutex_);
+    held_.erase(camera_id);
+  }
+  ready_.notify_all();
+}
+
+bool FrameQueue::anyAvailable() const {
+  for (const auto& [id, camera] : queues_)
+    if (available(id, camera)) return true;
+  return false;
+}
+
+std::optional<Frame> FrameQueue::take(std::chrono::milliseconds timeout, Duration* waited, std::vector<Frame>* stale,
+                                      bool hold_camera) {
+  std::unique_lock lock(mutex_);
+  ready_.wait_for(lock, timeout, [this] { return anyAvailable() || woken_; });
+  woken_ = false;
+  if (!anyAvailable()) return std::nullopt;
+
+  // Round robin: the first camera with frames, not held, after the camera served last.
   auto it = queues_.upper_bound(last_served_);
   for (size_t visited = 0; visited <= queues_.size(); ++visited) {
     if (it == queues_.end()) it = queues_.begin();
-    if (!it->second.frames.empty()) break;
+    if (available(it->first, it->second)) break;
     ++it;
   }
   CameraQueue& camera = it->second;
@@ -59,6 +82,7 @@ std::optional<Frame> FrameQueue::pop(std::chrono::milliseconds timeout, Duration
   camera.frames.pop_front();
   --total_;
   last_served_ = it->first;
+  if (hold_camera) held_.insert(it->first);
   return frame;
 }
 
@@ -68,6 +92,11 @@ void FrameQueue::wake() {
     woken_ = true;
   }
   ready_.notify_all();
+}
+
+size_t FrameQueue::held() const {
+  std::lock_guard lock(mutex_);
+  return held_.size();
 }
 
 size_t FrameQueue::size() const {

@@ -10,13 +10,16 @@
 //    in a few turns and costs no frame; a camera that sends faster than the fusion thread takes
 //    its frames gets its newest fused, a frame period old, instead of one that waited a full
 //    queue's worth.
-// Cameras are served round-robin so that one fast camera cannot starve the others.
+// Cameras are served round-robin so that one fast camera cannot starve the others. Several
+// tracking threads take frames with claim(): a camera whose frame is in hand is passed over until
+// release(), so that each camera's frames are tracked one at a time, in order.
 #include <chrono>
 #include <condition_variable>
 #include <deque>
 #include <map>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -42,11 +45,17 @@ class FrameQueue {
   // over for it (the caller counts them).
   std::optional<Frame> pop(std::chrono::milliseconds timeout, Duration* waited = nullptr,
                            std::vector<Frame>* stale = nullptr);
+  // pop(), of a camera no other caller holds a frame of; the camera is held until release().
+  std::optional<Frame> claim(std::chrono::milliseconds timeout, Duration* waited = nullptr,
+                             std::vector<Frame>* stale = nullptr);
+  void release(const std::string& camera_id);
 
   // Wakes a waiting pop() (used at shutdown).
   void wake();
 
   size_t size() const;
+  // Cameras whose frame a claim() caller has in hand.
+  size_t held() const;
 
  private:
   struct Queued {
@@ -61,6 +70,12 @@ class FrameQueue {
 
   // Drops all but the newest frame of a camera that fell behind for good (see above).
   void passOverStale(CameraQueue& camera, std::chrono::steady_clock::time_point now, std::vector<Frame>* stale);
+  std::optional<Frame> take(std::chrono::milliseconds timeout, Duration* waited, std::vector<Frame>* stale,
+                            bool hold_camera);
+  bool available(const std::string& camera_id, const CameraQueue& camera) const {
+    return !camera.frames.empty() && held_.count(camera_id) == 0;
+  }
+  bool anyAvailable() const;
 
   size_t capacity_;
   Duration max_wait_;
@@ -69,6 +84,7 @@ class FrameQueue {
   std::condition_variable ready_;
   std::map<std::string, CameraQueue> queues_;
   std::string last_served_;
+  std::set<std::string> held_;  // cameras whose frame a claim() caller has in hand
   size_t total_ = 0;
   bool woken_ = false;
 };

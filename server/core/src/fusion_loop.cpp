@@ -8,13 +8,22 @@
 #include "tbb_worker_names.hpp"
 
 namespace semfuse::server {
+namespace {
+
+// Frames a camera may have tracked ahead of integration when every frame is integrated: enough
+// to keep the fusion thread fed while the tracker works on the next.
+constexpr size_t kEveryFrameAhead = 2;
+
+std::string frameName(const std::string& camera, uint64_t seq) { return camera + "/" + std::to_string(seq); }
+
+}  // namespace
 
 FusionLoop::FusionLoop(Mapper& mapper, FrameQueue& frames, ServerState& state, const FusionLimits& limits,
-                       FrameCallback on_frame)
+                       PoseCallback on_pose)
     : mapper_(mapper),
-      frames_(frames),
       state_(state),
-      on_frame_(std::move(on_frame)),
+      integration_(limits.integrate_every_frame, kEveryFrameAhead),
+      tracking_(mapper, frames, integration_, state, limits.tracking_threads, std::move(on_pose)),
       history_(limits.history_frames, limits.history_megabytes << 20),
       pending_(limits.pending_segmentations,
                std::chrono::milliseconds(static_cast<int64_t>(limits.pending_timeout_s * 1000))) {}
@@ -28,6 +37,7 @@ void FusionLoop::start() {
     nameTbbWorkers();
     run();
   });
+  tracking_.start();
 }
 
 void FusionLoop::closeTasks() {
@@ -37,8 +47,9 @@ void FusionLoop::closeTasks() {
 
 void FusionLoop::stop() {
   closeTasks();
+  tracking_.stop();
   if (running_.exchange(false)) {
-    frames_.wake();
+    integration_.wake();
     if (thread_.joinable()) thread_.join();  // its last turn runs the tasks posted before closeTasks
   }
   std::vector<Task> never_run;
@@ -56,7 +67,7 @@ void FusionLoop::submitSegmentation(Segmentation segmentation) {
     std::lock_guard lock(inbox_mutex_);
     inbox_.push_back(std::move(segmentation));
   }
-  frames_.wake();  // the fusion thread may be waiting for a frame
+  integration_.wake();  // the fusion thread may be waiting for a frame
 }
 
 Status FusionLoop::runOnFusionThread(std::function<Status()> task, std::chrono::milliseconds timeout) {
@@ -67,7 +78,7 @@ Status FusionLoop::runOnFusionThread(std::function<Status()> task, std::chrono::
     tasks_.push_back({std::move(task), {}});
     result = tasks_.back().done.get_future();
   }
-  frames_.wake();
+  integration_.wake();
   if (result.wait_for(timeout) != std::future_status::ready)
     return makeError(ErrorCode::kUnavailable, "the fusion thread did not run the request within " +
                                                   std::to_string(timeout.count()) + " ms (busy integrating)");
@@ -78,8 +89,11 @@ size_t FusionLoop::pendingSegmentations() const { return pending_size_.load(); }
 size_t FusionLoop::historyFrames() const { return history_size_.load(); }
 
 bool FusionLoop::idle() const {
-  std::lock_guard lock(inbox_mutex_);
-  return inbox_.empty() && tasks_.empty() && frames_.size() == 0 && !busy_.load();
+  {
+    std::lock_guard lock(inbox_mutex_);
+    if (!inbox_.empty() || !tasks_.empty()) return false;
+  }
+  return tracking_.idle() && integration_.idle() && !busy_.load();
 }
 
 void FusionLoop::drain(std::chrono::milliseconds timeout) const {
@@ -100,24 +114,16 @@ void FusionLoop::run() {
     }
     for (auto& segmentation : arrived) applySegmentation(std::move(segmentation));
 
-    std::chrono::steady_clock::duration queued{};
-    std::vector<Frame> stale;
-    auto frame = frames_.pop(20ms, &queued, &stale);
-    for (const Frame& dropped : stale) {
-      state_.dropped.add(reason::kQueueStale, dropped.camera_id);
-      spdlog::debug("camera {}: frame {} waited too long, a newer one is fused instead", dropped.camera_id,
-                    dropped.seq);
-    }
-    if (!stale.empty()) state_.touch();
-    if (frame) {
+    std::vector<PosedFrame> frames = integration_.take(20ms);
+    if (!frames.empty()) {
       busy_ = true;
-      state_.stages.record(Stage::kFrameQueue, std::chrono::duration<double, std::milli>(queued).count());
-      processFrame(std::move(*frame));
+      processFrames(std::move(frames));
     }
     expirePending();
     pending_size_ = pending_.size();
     history_size_ = history_.size();
     busy_ = false;
+    integration_.finished();
   }
   runTasks();  // the tasks posted before closeTasks(); later ones were refused
 }
@@ -142,17 +148,48 @@ void FusionLoop::runTasks() {
   }
 }
 
-void FusionLoop::processFrame(Frame frame) {
-  // The camera's earlier frames are fused or gone: segmentations still waiting for one of them
-  // are counted now, so that the waiting set holds only those that can still be fused.
-  for (const auto& orphaned : pending_.takeBefore(frame.camera_id, frame.seq)) {
-    state_.dropped.add(reason::kFrameDropped, orphaned.camera_id);
-    spdlog::debug("segmentation {} of {}/{}: its frame was dropped before fusion", orphaned.segmenter_id,
-                  orphaned.camera_id, orphaned.frame_seq);
+void FusionLoop::processFrames(std::vector<PosedFrame> frames) {
+  const uint64_t epoch = mapper_.epoch();
+  // The newest posed frame of today's map is integrated; with every frame integrated there is one.
+  std::ptrdiff_t chosen = -1;
+  for (auto k = static_cast<std::ptrdiff_t>(frames.size()) - 1; k >= 0 && chosen < 0; --k)
+    if (frames[k].outcome.posed() && frames[k].map_epoch == epoch) chosen = k;
+
+  for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(frames.size()); ++k) {
+    const PosedFrame& posed = frames[static_cast<size_t>(k)];
+    const std::string& camera = posed.frame.camera_id;
+    const uint64_t seq = posed.frame.seq;
+    state_.stages.recordSince(Stage::kIntegrationQueue, posed.tracked_at);
+    // The camera's earlier frames are fused, kept or gone: segmentations still waiting for one of
+    // them are counted now, so that the waiting set holds only those that can still be fused.
+    for (const auto& orphaned : pending_.takeBefore(camera, seq)) {
+      state_.dropped.add(reason::kFrameDropped, orphaned.camera_id);
+      spdlog::debug("segmentation {} of {}: its frame was dropped before tracking", orphaned.segmenter_id,
+                    frameName(camera, orphaned.frame_seq));
+    }
+    std::vector<Segmentation> waiting = pending_.takeFor(camera, seq);
+    if (k == chosen) {
+      integrateFrame(posed, std::move(waiting));
+    } else if (posed.outcome.posed() && posed.map_epoch != epoch) {
+      // Tracked against a map a load or reset replaced: its pose means nothing in this one.
+      mapper_.abandon(posed);
+      state_.dropped.add(reason::kMapReplaced, camera);
+      for (const auto& segmentation : waiting) state_.dropped.add(reason::kUnknownFrame, segmentation.camera_id);
+      state_.touch();
+    } else {
+      if (posed.outcome.posed()) {
+        mapper_.abandon(posed);
+        state_.frameSkipped(camera);
+      }
+      keepFrame(posed, std::move(waiting));
+    }
   }
+}
+
+void FusionLoop::integrateFrame(const PosedFrame& posed, std::vector<Segmentation> waiting) {
+  const Frame& frame = posed.frame;
   // A segmentation that was already waiting is fused in the same pass as the depth (one walk
   // over the voxels instead of two); any further ones for this frame follow separately.
-  std::vector<Segmentation> waiting = pending_.takeFor(frame.camera_id, frame.seq);
   const Segmentation* same_pass = nullptr;
   for (const auto& candidate : waiting) {
     if (candidate.labels.cols <= frame.depth.cols && candidate.labels.rows <= frame.depth.rows) {
@@ -160,43 +197,25 @@ void FusionLoop::processFrame(Frame frame) {
       break;
     }
   }
-  auto outcome = mapper_.integrateFrame(frame, same_pass);
-  if (!outcome.ok()) {
-    state_.reject(reason::kIntegrationFailed, frame.camera_id,
-                  "frame " + frame.camera_id + "/" + std::to_string(frame.seq), outcome.error());
+  const auto start = std::chrono::steady_clock::now();
+  auto stats = mapper_.integrate(posed, same_pass);
+  state_.stages.recordSince(Stage::kIntegrate, start);
+  if (!stats.ok()) {
+    state_.reject(reason::kIntegrationFailed, frame.camera_id, "frame " + frameName(frame.camera_id, frame.seq),
+                  stats.error());
     // Remember the frame so its segmentations are rejected at once instead of waiting.
     history_.add({frame.camera_id, frame.seq, false, frame.intrinsics, cv::Mat(), Pose::Identity()});
     for (const auto& segmentation : waiting) state_.dropped.add(reason::kUnknownFrame, segmentation.camera_id);
     return;
   }
-  const FrameOutcome& result = outcome.value();
-  state_.stages.record(Stage::kTrack, result.track_ms);
-  if (result.integrated) state_.stages.record(Stage::kIntegrate, result.integrate_ms);
-  const auto tracking_state = static_cast<uint8_t>(result.pose_state);
-  if (result.integrated) {
-    ++state_.frames_integrated;
-  } else {
-    ++state_.frames_lost;
-    state_.dropped.add(reason::kTrackingLost, frame.camera_id);
-    spdlog::warn("camera {} frame {}: tracking lost ({}), not integrated", frame.camera_id, frame.seq,
-                 result.lost_reason);
-  }
-  state_.frameProcessed(frame.camera_id, {result.integrated, tracking_state, result.lost_reason,
-                                          result.frames_since_lost, result.relocalisations});
-  if (on_frame_) on_frame_(frame, result);
-
-  HistoryEntry entry{frame.camera_id,
-                     frame.seq,
-                     result.integrated,
-                     frame.intrinsics,
-                     result.integrated ? frame.depth : cv::Mat(),
-                     result.camera_to_world};
-  history_.add(std::move(entry));
+  state_.frameIntegrated(frame.camera_id);
+  history_.add({frame.camera_id, frame.seq, true, frame.intrinsics, frame.depth, *frame.camera_to_world});
   const HistoryEntry* stored = history_.find(frame.camera_id, frame.seq);
   for (const auto& segmentation : waiting) {
-    if (&segmentation == same_pass && result.integrated) {
+    if (&segmentation == same_pass) {
       ++state_.segmentations_integrated;
-    } else if (stored && stored->integrated) {
+      state_.touch();
+    } else if (stored) {
       integrateLabels(*stored, segmentation);
     } else {
       state_.dropped.add(reason::kUnknownFrame, segmentation.camera_id);
@@ -204,13 +223,25 @@ void FusionLoop::processFrame(Frame frame) {
   }
 }
 
+void FusionLoop::keepFrame(const PosedFrame& posed, std::vector<Segmentation> waiting) {
+  const Frame& frame = posed.frame;
+  const bool has_pose = posed.outcome.posed();
+  history_.add({frame.camera_id, frame.seq, has_pose, frame.intrinsics, has_pose ? frame.depth : cv::Mat(),
+                has_pose ? *frame.camera_to_world : Pose::Identity()});
+  const HistoryEntry* stored = history_.find(frame.camera_id, frame.seq);
+  for (const auto& segmentation : waiting) {
+    if (stored && stored->posed) integrateLabels(*stored, segmentation);
+    else state_.dropped.add(reason::kUnknownFrame, segmentation.camera_id);
+  }
+}
+
 void FusionLoop::applySegmentation(Segmentation segmentation) {
   const std::string& camera = segmentation.camera_id;
   if (const HistoryEntry* entry = history_.find(camera, segmentation.frame_seq)) {
-    if (!entry->integrated) {
+    if (!entry->posed) {
       state_.reject(reason::kUnknownFrame, camera, "segmentation " + segmentation.segmenter_id,
-                    "frame " + camera + "/" + std::to_string(segmentation.frame_seq) +
-                        " was not integrated (tracking lost or rejected): its labels have no geometry");
+                    "frame " + frameName(camera, segmentation.frame_seq) +
+                        " has no pose (tracking lost or frame rejected): its labels have no geometry");
       return;
     }
     integrateLabels(*entry, segmentation);
@@ -220,7 +251,7 @@ void FusionLoop::applySegmentation(Segmentation segmentation) {
   const auto last = history_.lastSeq(camera);
   if (last && segmentation.frame_seq <= *last) {
     state_.reject(reason::kUnknownFrame, camera, "segmentation " + segmentation.segmenter_id,
-                  "frame " + camera + "/" + std::to_string(segmentation.frame_seq) +
+                  "frame " + frameName(camera, segmentation.frame_seq) +
                       " is no longer in the frame history (evicted or never received)");
     return;
   }
@@ -255,9 +286,9 @@ void FusionLoop::expirePending() {
     const bool camera_known = state_.knowsCamera(expired.camera_id);
     if (camera_known) {
       state_.dropped.add(reason::kSegmentationTimeout, expired.camera_id);
-      state_.errors.record("segmentation " + expired.segmenter_id, "frame " + expired.camera_id + "/" +
-                                                                       std::to_string(expired.frame_seq) +
-                                                                       " never arrived; segmentation dropped");
+      state_.errors.record(
+          "segmentation " + expired.segmenter_id,
+          "frame " + frameName(expired.camera_id, expired.frame_seq) + " never arrived; segmentation dropped");
       state_.touch();
     } else {
       state_.reject(reason::kUnknownCamera, expired.camera_id, "segmentation " + expired.segmenter_id,

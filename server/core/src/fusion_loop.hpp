@@ -1,9 +1,13 @@
 #pragma once
-// The fusion thread: the only writer of the map. Each turn it runs posted admin tasks (load,
-// reset), applies the segmentations that arrived, fuses the next frame (round-robin over
-// cameras), then applies segmentations that were waiting for that frame, counts those waiting
-// for an earlier frame of that camera (dropped before fusion) and expires the ones that waited
-// too long. Every input ends integrated or counted under a reason.
+// The frame pipeline behind the ingest: tracking threads give every frame its pose
+// (TrackingStage), and the fusion thread, the only writer of the map, integrates them from the
+// integration queue. Each turn the fusion thread runs posted admin tasks (load, reset), applies
+// the segmentations that arrived, then takes the tracked frames of the next camera (round robin):
+// the newest posed one is integrated, the older ones are skipped and kept in the frame history
+// (their segmentations still get a label pass), lost ones are kept there as such. It applies the
+// segmentations that were waiting for those frames, counts those waiting for an earlier frame of
+// that camera (dropped before tracking) and expires the ones that waited too long. Every input
+// ends integrated or counted under a reason.
 #include <atomic>
 #include <chrono>
 #include <functional>
@@ -15,28 +19,30 @@
 #include "frame_history.hpp"
 #include "frame_queue.hpp"
 #include "fusion_limits.hpp"
+#include "integration_queue.hpp"
 #include "mapper.hpp"
 #include "pending_segmentations.hpp"
 #include "server_state.hpp"
+#include "tracking_stage.hpp"
 
 namespace semfuse::server {
 
 class FusionLoop {
  public:
-  // Called after each processed frame (integrated or lost) with the outcome, from the fusion
-  // thread: the server publishes the pose from here.
-  using FrameCallback = std::function<void(const Frame&, const FrameOutcome&)>;
+  using PoseCallback = TrackingStage::PoseCallback;
 
-  FusionLoop(Mapper& mapper, FrameQueue& frames, ServerState& state, const FusionLimits& limits,
-             FrameCallback on_frame);
+  // on_pose: called on a tracking thread for every tracked frame, posed or lost, as soon as its
+  // pose is known (the server publishes it from here).
+  FusionLoop(Mapper& mapper, FrameQueue& frames, ServerState& state, const FusionLimits& limits, PoseCallback on_pose);
   ~FusionLoop();
 
   void start();
   // Stops taking tasks (runOnFusionThread answers UNAVAILABLE at once from now on); the tasks
   // already posted still run. The first step of stop(), and of the server's stop sequence.
   void closeTasks();
-  // closeTasks, then the thread runs what was posted and ends. A task it never ran (the loop was
-  // not started) is answered UNAVAILABLE: nobody waits out a timeout for a thread that is gone.
+  // closeTasks, then the threads finish what they hold and end. A task the fusion thread never
+  // ran (the loop was not started) is answered UNAVAILABLE: nobody waits out a timeout for a
+  // thread that is gone.
   void stop();
 
   // From any thread: a decoded, validated segmentation to apply.
@@ -48,22 +54,30 @@ class FusionLoop {
 
   size_t pendingSegmentations() const;
   size_t historyFrames() const;
-  bool idle() const;  // no queued frame, no queued segmentation or task, nothing in progress
-  // Waits until idle(), at most `timeout`; returns at once when the thread does not run.
+  size_t trackingThreads() const { return tracking_.threads(); }
+  // Frames tracked and waiting for the fusion thread.
+  size_t framesAwaitingIntegration() const { return integration_.size(); }
+  // No frame queued or in hand anywhere, no queued segmentation or task, nothing in progress.
+  bool idle() const;
+  // Waits until idle(), at most `timeout`; returns at once when the threads do not run.
   void drain(std::chrono::milliseconds timeout) const;
 
  private:
   void run();
   void runTasks();
-  void processFrame(Frame frame);
+  // The tracked frames of one camera, oldest first.
+  void processFrames(std::vector<PosedFrame> frames);
+  void integrateFrame(const PosedFrame& frame, std::vector<Segmentation> waiting);
+  // A frame kept in the history without being integrated: posed and skipped, or without a pose.
+  void keepFrame(const PosedFrame& frame, std::vector<Segmentation> waiting);
   void applySegmentation(Segmentation segmentation);
   void integrateLabels(const HistoryEntry& entry, const Segmentation& segmentation);
   void expirePending();
 
   Mapper& mapper_;
-  FrameQueue& frames_;
   ServerState& state_;
-  FrameCallback on_frame_;
+  IntegrationQueue integration_;
+  TrackingStage tracking_;
 
   FrameHistory history_;          // fusion thread only
   PendingSegmentations pending_;  // fusion thread only

@@ -46,7 +46,7 @@ PoseState poseStateOf(tracking::TrackingStatus status) {
 }
 }  // namespace
 
-Result<tracking::TrackedFrame> Mapper::choosePose(const Frame& frame, FrameOutcome& outcome) {
+Result<tracking::TrackedFrame> Mapper::choosePose(const Frame& frame, TrackOutcome& outcome) {
   const auto start = std::chrono::steady_clock::now();
   Result<tracking::TrackedFrame> tracked = tracking::TrackedFrame{};
   {
@@ -70,31 +70,75 @@ Result<tracking::TrackedFrame> Mapper::choosePose(const Frame& frame, FrameOutco
   return tracked;
 }
 
-Result<FrameOutcome> Mapper::integrateFrame(const Frame& frame, const Segmentation* segmentation) {
-  FrameOutcome outcome;
-  auto tracked = choosePose(frame, outcome);
-  if (!tracked.ok()) return tracked.errorInfo();
-  if (!tracked.value().shouldIntegrate()) return outcome;
+// Long enough for the fusion thread to integrate one frame under any load; should it not (it is
+// stuck), the frames go on and are tracked against what the map holds.
+constexpr std::chrono::seconds kFirstFrameWait{2};
 
-  Frame posed = frame;  // shallow: cv::Mat shares pixels
-  posed.camera_to_world = outcome.camera_to_world;
-  const auto start = std::chrono::steady_clock::now();
+Result<PosedFrame> Mapper::track(Frame frame) {
+  const uint64_t epoch = epoch_.load();
+  std::unique_lock<std::mutex> empty_map;  // pose-less tracking one frame at a time while the map is empty
+  if (!frame.camera_to_world) {
+    std::unique_lock lock(first_frame_mutex_);
+    first_frame_done_.wait_for(lock, kFirstFrameWait, [this] { return !first_frame_pending_; });
+    if (size().frames_integrated == 0) empty_map = std::move(lock);
+  }
+  PosedFrame posed;
+  auto tracked = choosePose(frame, posed.outcome);
+  if (!tracked.ok()) return tracked.errorInfo();
+  if (tracked.value().status == tracking::TrackingStatus::kInitialized && empty_map.owns_lock())
+    first_frame_pending_ = true;
+  posed.tracked = std::move(tracked).value();
+  posed.frame = std::move(frame);
+  posed.frame.camera_to_world.reset();
+  if (posed.outcome.posed()) posed.frame.camera_to_world = posed.outcome.camera_to_world;
+  posed.map_epoch = epoch;
+  return posed;
+}
+
+void Mapper::firstFrameDone() {
+  {
+    std::lock_guard lock(first_frame_mutex_);
+    if (!first_frame_pending_) return;
+    first_frame_pending_ = false;
+  }
+  first_frame_done_.notify_all();
+}
+
+Result<volume::IntegrationStats> Mapper::integrate(const PosedFrame& posed, const Segmentation* segmentation) {
+  if (!posed.frame.camera_to_world)
+    return makeError("frame " + posed.frame.camera_id + "/" + std::to_string(posed.frame.seq) +
+                     " has no pose to integrate at");
   Result<volume::IntegrationStats> stats = volume::IntegrationStats{};
   {
     std::unique_lock lock(mutex_);
-    stats = volume::integrate(volume_, posed, segmentation);
+    stats = volume::integrate(volume_, posed.frame, segmentation);
     if (stats.ok()) ++revision_;
     // The frame passed the same checks in integrate(): this cannot fail on its input.
     if (stats.ok() && options_.observe_free_space)
-      static_cast<void>(volume::observeFreeSpace(volume_, posed.depth, posed.intrinsics, *posed.camera_to_world,
-                                                 options_.free_space_stride));
+      static_cast<void>(volume::observeFreeSpace(volume_, posed.frame.depth, posed.frame.intrinsics,
+                                                 *posed.frame.camera_to_world, options_.free_space_stride));
   }
+  firstFrameDone();
+  if (!stats.ok()) return stats;
+  if (on_change_) on_change_();
+  tracker_.integrated(posed.frame, posed.tracked);
+  return stats;
+}
+
+void Mapper::abandon(const PosedFrame& /*frame*/) { firstFrameDone(); }
+
+Result<FrameOutcome> Mapper::integrateFrame(const Frame& frame, const Segmentation* segmentation) {
+  auto posed = track(frame);
+  if (!posed.ok()) return posed.errorInfo();
+  FrameOutcome outcome;
+  static_cast<TrackOutcome&>(outcome) = posed.value().outcome;
+  if (!outcome.posed()) return outcome;
+  const auto start = std::chrono::steady_clock::now();
+  auto stats = integrate(posed.value(), segmentation);
   outcome.integrate_ms = millisecondsSince(start);
   if (!stats.ok()) return stats.errorInfo();
-  if (on_change_) on_change_();
   outcome.stats = stats.value();
   outcome.integrated = true;
-  tracker_.integrated(frame, tracked.value());
   return outcome;
 }
 
@@ -137,7 +181,9 @@ Status Mapper::load(const std::filesystem::path& path) {
   volume_ = std::move(loaded.value().volume);
   tracker_.reset();  // tracking restarts from the poses the next frames carry
   ++revision_;
+  ++epoch_;
   lock.unlock();
+  firstFrameDone();
   if (on_change_) on_change_();
   return Status::Ok();
 }
@@ -148,7 +194,9 @@ void Mapper::reset() {
     volume_.clear();
     tracker_.reset();
     ++revision_;
+    ++epoch_;
   }
+  firstFrameDone();
   if (on_change_) on_change_();
 }
 

@@ -1,9 +1,14 @@
 #pragma once
-// Mapper: the one object that owns the map (nvblox-style facade). The fusion thread is its only
-// writer: integrateFrame() picks the pose (given, refined or tracked), fuses depth, colour and
-// labels; integrateSegmentation() adds a late segmentation's label evidence. Queries read under a
-// shared lock, so they run concurrently with each other and wait only for the write in progress.
-// Saving copies the volume under the shared lock and writes the copy without holding it.
+// Mapper: the one object that owns the map (nvblox-style facade). A frame goes through it in two
+// steps: track() picks its pose (given, refined or tracked) under the map's shared lock, on a
+// tracking thread, several cameras at once; integrate() fuses its depth, colour and labels, on the
+// fusion thread, the map's only writer. integrateSegmentation() adds a late segmentation's label
+// evidence. Queries read under the shared lock, so they run concurrently with each other and with
+// tracking, and wait only for the write in progress. Saving copies the volume under the shared
+// lock and writes the copy without holding it.
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -26,20 +31,35 @@
 
 namespace semfuse::server {
 
-struct FrameOutcome {
-  bool integrated = false;
+// What tracking made of a frame: the pose it goes to the map at, or why it has none.
+struct TrackOutcome {
   PoseState pose_state = PoseState::kGiven;
   Pose camera_to_world = Pose::Identity();
   float inlier_ratio = 1.0f;
   float residual = 0.0f;
   uint32_t iterations = 0;
   double track_ms = 0.0;
-  double integrate_ms = 0.0;
   std::string lost_reason;  // why tracking gave up (pose_state == kLost)
   // The camera's tracking after this frame: frames the current loss has lasted (0 while
   // tracking) and times a keyframe found it again or placed it.
   uint64_t frames_since_lost = 0;
   uint64_t relocalisations = 0;
+  bool posed() const { return pose_state != PoseState::kLost; }
+};
+
+// A tracked frame on its way to the map.
+struct PosedFrame {
+  Frame frame;  // camera_to_world: the pose tracking chose (unset when lost)
+  TrackOutcome outcome;
+  tracking::TrackedFrame tracked;                      // for the keyframes, once the frame is integrated
+  uint64_t map_epoch = 0;                              // the map it was tracked against (Mapper::epoch)
+  std::chrono::steady_clock::time_point tracked_at{};  // when its pose was known
+};
+
+// Tracking and integration of one frame in one call (integrateFrame).
+struct FrameOutcome : TrackOutcome {
+  bool integrated = false;
+  double integrate_ms = 0.0;
   volume::IntegrationStats stats;
 };
 
@@ -60,11 +80,22 @@ class Mapper {
  public:
   explicit Mapper(MapperOptions options);
 
-  // Fusion thread only. Errors: bad input (sizes, intrinsics, a pose that is not rigid). A frame
-  // the tracker cannot place (lost, or a pose-less camera no keyframe has placed yet) is no error:
-  // the outcome says it was not integrated and why.
+  // Any thread, one frame of a camera at a time and in order. Errors: bad input (sizes,
+  // intrinsics, a pose that is not rigid). A frame the tracker cannot place (lost, or a pose-less
+  // camera no keyframe has placed yet) is no error: its outcome says why it has no pose.
+  Result<PosedFrame> track(Frame frame);
+  // Fusion thread only: fuses a posed frame (and the labels of a segmentation of it) at its pose.
+  // The caller checks first that the frame was tracked against the map of the current epoch.
+  Result<volume::IntegrationStats> integrate(const PosedFrame& frame, const Segmentation* segmentation = nullptr);
+  // Fusion thread only: a posed frame that will never be integrated (a newer one of its camera
+  // was, or the map was replaced since it was tracked).
+  void abandon(const PosedFrame& frame);
+  // track() then integrate() on the calling thread: for single-threaded users (tests, eval).
   Result<FrameOutcome> integrateFrame(const Frame& frame, const Segmentation* segmentation = nullptr);
   Result<volume::IntegrationStats> integrateSegmentation(const HistoryEntry& frame, const Segmentation& segmentation);
+
+  // Incremented by every load and reset: frames tracked before belong to a map that is gone.
+  uint64_t epoch() const { return epoch_.load(); }
 
   // Runs `fn(volume)` under the shared lock: for quick reads (sizes, a few voxels).
   template <class Fn>
@@ -107,10 +138,20 @@ class Mapper {
 
  private:
   // Decides the frame's pose (tracking::Tracker) and fills `outcome`.
-  Result<tracking::TrackedFrame> choosePose(const Frame& frame, FrameOutcome& outcome);
+  Result<tracking::TrackedFrame> choosePose(const Frame& frame, TrackOutcome& outcome);
+  // The first frame of a pose-less camera on an empty map defines the world; until it is in the
+  // map the next pose-less frames wait for it (they would have nothing to be tracked against, and
+  // a second camera would define a second world).
+  void firstFrameDone();
 
   MapperOptions options_;
-  tracking::Tracker tracker_;  // fusion thread only
+  // Thread-safe for different cameras (tracker.hpp); reset only under the exclusive lock, which no
+  // tracking holds.
+  tracking::Tracker tracker_;
+  std::atomic<uint64_t> epoch_{0};
+  std::mutex first_frame_mutex_;  // held by pose-less tracking while the map is empty
+  std::condition_variable first_frame_done_;
+  bool first_frame_pending_ = false;  // a world-defining frame is tracked, not integrated yet
   // Writer first: a frame waiting to be fused is not passed over by queries (writer_first_mutex.hpp).
   mutable WriterFirstMutex mutex_;
   volume::LabeledVolume volume_;

@@ -103,8 +103,8 @@ void addServerOptions(CLI::App& app, ServerConfig& c) {
       ->check(CLI::PositiveNumber);
   app.add_option("--max-queue-wait", c.max_queue_wait_s,
                  "seconds a camera's oldest queued frame may wait: a camera whose oldest frame waited longer, "
-                 "and that has not caught up for 5 times as long, has its newest fused and the ones before it "
-                 "dropped (0 = fuse every queued frame in order)")
+                 "and that has not caught up for 5 times as long, has its newest tracked and the ones before it "
+                 "dropped (0 = track and integrate every queued frame in order, none skipped: replays)")
       ->group(limits)
       ->capture_default_str()
       ->check(secondsCheck(60.0));
@@ -123,6 +123,12 @@ void addServerOptions(CLI::App& app, ServerConfig& c) {
       ->capture_default_str();
 
   auto* tracking = "Tracking";
+  app.add_option("--tracking-threads", c.fusion.tracking_threads,
+                 "threads that track frames, each camera's in order, several cameras at once (0 = one per core, "
+                 "at most 4)")
+      ->group(tracking)
+      ->capture_default_str()
+      ->check(CLI::Range(0, 64));
   app.add_option("--refine-poses", c.refine_given_poses, "refine poses that come with frames by SDF alignment")
       ->group(tracking)
       ->capture_default_str();

@@ -33,15 +33,29 @@ void ServerState::frameArrived(const std::string& camera_id, uint64_t seq, Clock
   touch();
 }
 
-void ServerState::frameProcessed(const std::string& camera_id, const FrameResult& result) {
+void ServerState::frameTracked(const std::string& camera_id, const TrackResult& result) {
+  (result.posed ? frames_posed : frames_lost)++;
   std::lock_guard lock(mutex_);
   CameraActivity& camera = cameras_[camera_id];
   camera.tracking_state = result.tracking_state;
   camera.lost_reason = result.lost_reason;
   camera.frames_since_lost = result.frames_since_lost;
   camera.relocalisations = result.relocalisations;
-  if (result.integrated) ++camera.frames_integrated;
-  else ++camera.frames_lost;
+  ++(result.posed ? camera.frames_posed : camera.frames_lost);
+  touch();
+}
+
+void ServerState::frameIntegrated(const std::string& camera_id) {
+  ++frames_integrated;
+  std::lock_guard lock(mutex_);
+  ++cameras_[camera_id].frames_integrated;
+  touch();
+}
+
+void ServerState::frameSkipped(const std::string& camera_id) {
+  ++frames_skipped;
+  std::lock_guard lock(mutex_);
+  ++cameras_[camera_id].frames_skipped;
   touch();
 }
 

@@ -18,8 +18,8 @@ namespace semfuse::server {
 // rejected (malformed or inconsistent). They appear verbatim in ServerStatus.
 namespace reason {
 inline constexpr const char* kQueueFull = "queue_full";  // drop: newer frame came
-// Drop: the camera's oldest queued frame waited longer than --max-queue-wait, and the fusion
-// thread took the camera's newest instead of the frames before it.
+// Drop: the camera's oldest queued frame waited longer than --max-queue-wait, and tracking took
+// the camera's newest instead of the frames before it.
 inline constexpr const char* kQueueStale = "queue_stale";
 // Frames the ingest never saw, from gaps in a camera's sequence numbers: lost on the network or
 // overwritten in the DDS reader's history (or skipped on purpose by the camera, e.g. a stride).
@@ -30,6 +30,8 @@ inline constexpr const char* kSegmentationTimeout = "segmentation_timeout";  // 
 // so its own was dropped before fusion (queue_full, queue_stale) or never received (sequence_gap).
 inline constexpr const char* kFrameDropped = "frame_dropped";
 inline constexpr const char* kTrackingLost = "tracking_lost";  // frame not integrated
+// A posed frame tracked against a map that a load or reset then replaced: not integrated.
+inline constexpr const char* kMapReplaced = "map_replaced";
 inline constexpr const char* kInvalidFrame = "invalid_frame";
 inline constexpr const char* kInvalidSegmentation = "invalid_segmentation";
 inline constexpr const char* kLabelOutOfLegend = "label_out_of_legend";
@@ -40,9 +42,9 @@ inline constexpr const char* kIntegrationFailed = "integration_failed";
 inline constexpr const char* kInvalidQuery = "invalid_query";  // a query the server refused
 }  // namespace reason
 
-// What the fusion thread made of one frame of a camera.
-struct FrameResult {
-  bool integrated = false;
+// What tracking made of one frame of a camera.
+struct TrackResult {
+  bool posed = false;
   uint8_t tracking_state = 0;  // TrackedPose_Constants
   std::string lost_reason;     // why tracking is lost; empty while tracking
   uint64_t frames_since_lost = 0;
@@ -56,8 +58,10 @@ struct CameraActivity {
   uint64_t relocalisations = 0;
   uint64_t last_seq = 0;
   uint64_t frames_received = 0;
-  uint64_t frames_integrated = 0;
-  uint64_t frames_lost = 0;
+  uint64_t frames_posed = 0;       // tracked (or given) a pose
+  uint64_t frames_integrated = 0;  // of those, fused into the map
+  uint64_t frames_skipped = 0;     // of those, passed over by integration for a newer one
+  uint64_t frames_lost = 0;        // tracking lost: no pose
   std::chrono::steady_clock::time_point last_frame_time{};
   double rate_hz = 0.0;  // exponential moving average of the arrival rate
 };
@@ -72,7 +76,9 @@ class ServerState {
   StageTimings stages;
 
   std::atomic<uint64_t> frames_received{0};
+  std::atomic<uint64_t> frames_posed{0};
   std::atomic<uint64_t> frames_integrated{0};
+  std::atomic<uint64_t> frames_skipped{0};
   std::atomic<uint64_t> frames_lost{0};
   std::atomic<uint64_t> segmentations_received{0};
   std::atomic<uint64_t> segmentations_integrated{0};
@@ -81,7 +87,10 @@ class ServerState {
   void reject(const char* why, const std::string& camera_id, const std::string& source, const std::string& message);
 
   void frameArrived(const std::string& camera_id, uint64_t seq, Clock::time_point now = Clock::now());
-  void frameProcessed(const std::string& camera_id, const FrameResult& result);
+  void frameTracked(const std::string& camera_id, const TrackResult& result);
+  // A posed frame integrated, or skipped for a newer one of its camera.
+  void frameIntegrated(const std::string& camera_id);
+  void frameSkipped(const std::string& camera_id);
   std::map<std::string, CameraActivity> cameras() const;
   bool knowsCamera(const std::string& camera_id) const;
   // Changes whenever a counter the status reports changes (for "publish on change").

@@ -13,6 +13,8 @@ const char* stageName(Stage stage) {
       return "frame_queue";
     case Stage::kTrack:
       return "track";
+    case Stage::kIntegrationQueue:
+      return "integration_queue";
     case Stage::kIntegrate:
       return "integrate";
     case Stage::kLateLabels:

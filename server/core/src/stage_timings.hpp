@@ -15,14 +15,15 @@
 namespace semfuse::server {
 
 enum class Stage : int {
-  kFrameDecode,    // a frame from its wire message (ingest thread); from ROS 2 topics, each image
-                   // (depth, colour) is a run
-  kFrameQueue,     // a frame's wait in its camera's queue, from decoded to taken by the fusion
-  kTrack,          // the frame's pose: tracking, or checking a given pose
-  kIntegrate,      // depth (and labels that came first) into the map, with the wait for its lock
-  kLateLabels,     // a segmentation that came after its frame, fused on its own
-  kMapUpdate,      // one round of the live mesh (changed blocks meshed and published)
-  kDistanceField,  // one update of the distance field from the changed leaves
+  kFrameDecode,       // a frame from its wire message (ingest thread); from ROS 2 topics, each image
+                      // (depth, colour) is a run
+  kFrameQueue,        // a frame's wait in its camera's queue, from decoded to taken by a tracking thread
+  kTrack,             // the frame's pose: tracking, or checking a given pose
+  kIntegrationQueue,  // a tracked frame's wait for the fusion thread (integrated, skipped or kept)
+  kIntegrate,         // depth (and labels that came first) into the map, with the wait for its lock
+  kLateLabels,        // a segmentation that came after its frame, fused on its own
+  kMapUpdate,         // one round of the live mesh (changed blocks meshed and published)
+  kDistanceField,     // one update of the distance field from the changed leaves
   kCount
 };
 

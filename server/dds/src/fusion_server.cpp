@@ -90,8 +90,11 @@ FusionServer::FusionServer(ServerConfig config)
     occupancy_publisher_ = std::make_unique<OccupancyPublisher>(participant_, *distance_field_, config_.esdf);
   }
 
-  fusion_ = std::make_unique<FusionLoop>(*mapper_, frames_, state_, config_.fusion,
-                                         [this](const Frame& f, const FrameOutcome& o) { frameProcessed(f, o); });
+  FusionLimits fusion = config_.fusion;
+  // --max-queue-wait 0: no frame is passed over anywhere, neither for tracking nor integration.
+  fusion.integrate_every_frame = config_.max_queue_wait_s <= 0.0;
+  fusion_ = std::make_unique<FusionLoop>(*mapper_, frames_, state_, fusion,
+                                         [this](const PosedFrame& frame) { frameTracked(frame); });
   ingest_ = std::make_unique<Ingest>(participant_, frames_, *fusion_, state_, legend_);
   if (config_.ros.enabled) ros_ingest_ = std::make_unique<RosIngest>(participant_, config_.ros, frames_, state_);
   if (config_.map_updates.rate_hz > 0) {
@@ -194,9 +197,11 @@ int FusionServer::run() {
   }
   publishStatus();
   const auto s = snapshot();
-  spdlog::info("frames: {} received, {} integrated, {} lost; segmentations: {} received, {} integrated",
-               s.frames_received, s.frames_integrated, s.frames_lost, s.segmentations_received,
-               s.segmentations_integrated);
+  spdlog::info(
+      "frames: {} received, {} posed ({} integrated, {} skipped), {} lost; segmentations: {} received, {} "
+      "integrated",
+      s.frames_received, s.frames_posed, s.frames_integrated, s.frames_skipped, s.frames_lost, s.segmentations_received,
+      s.segmentations_integrated);
   return exit_code;
 }
 
@@ -220,31 +225,31 @@ Status FusionServer::saveMap(const std::string& path) {
   return saved;
 }
 
-// On the fusion thread, which starts after the services exist and stops before they go. The view
-// is recorded before the pose goes out: a client that queries the objects once it has the pose
-// finds the frame among those that saw them.
-void FusionServer::frameProcessed(const Frame& frame, const FrameOutcome& outcome) {
-  if (outcome.integrated) services_->recordView(frame, outcome.camera_to_world);
-  publishPose(frame, outcome);
+// On a tracking thread, as soon as the frame's pose is known (the threads start after the services
+// exist and stop before they go). The view is recorded before the pose goes out: a client that
+// queries the objects once it has the pose finds the frame among those that saw them.
+void FusionServer::frameTracked(const PosedFrame& frame) {
+  if (frame.outcome.posed()) services_->recordView(frame.frame, frame.outcome.camera_to_world);
+  publishPose(frame);
 }
 
-void FusionServer::publishPose(const Frame& frame, const FrameOutcome& outcome) {
+void FusionServer::publishPose(const PosedFrame& frame) {
+  const TrackOutcome& outcome = frame.outcome;
   TrackedPose pose;
-  pose.camera_id = frame.camera_id;
-  pose.seq = frame.seq;
-  pose.stamp = frame.stamp;
+  pose.camera_id = frame.frame.camera_id;
+  pose.seq = frame.frame.seq;
+  pose.stamp = frame.frame.stamp;
   pose.frame_id = "world";
   pose.state = outcome.pose_state;
-  pose.integrated = outcome.integrated;
+  pose.posed = outcome.posed();
   pose.camera_to_world = outcome.camera_to_world;
   pose.inlier_ratio = outcome.inlier_ratio;
   pose.residual = outcome.residual;
   pose.iterations = outcome.iterations;
   pose.track_ms = static_cast<float>(outcome.track_ms);
-  pose.integrate_ms = static_cast<float>(outcome.integrate_ms);
   auto encoded = wire::encodeTrackedPose(pose);
   if (Status ok = pose_writer_.write(encoded.msg()); !ok) spdlog::debug("pose: {}", ok.error());
-  if (ros_ingest_) ros_ingest_->publishPose(frame, outcome);
+  if (ros_ingest_) ros_ingest_->publishPose(frame.frame, outcome);
 }
 
 void FusionServer::publishStatus() {
@@ -259,13 +264,15 @@ ServerStatus FusionServer::snapshot() const {
   s.version = SEMFUSE_VERSION;
   s.uptime_s = secondsSince(started_);
   s.frames_received = state_.frames_received;
+  s.frames_posed = state_.frames_posed;
   s.frames_integrated = state_.frames_integrated;
+  s.frames_skipped = state_.frames_skipped;
   s.frames_lost = state_.frames_lost;
   s.segmentations_received = state_.segmentations_received;
   s.segmentations_integrated = state_.segmentations_integrated;
   for (const auto& c : state_.dropped.snapshot()) s.dropped.push_back({c.reason, c.camera_id, c.count});
   for (const auto& c : state_.rejected.snapshot()) s.rejected.push_back({c.reason, c.camera_id, c.count});
-  s.queued_frames = static_cast<uint32_t>(frames_.size());
+  s.queued_frames = static_cast<uint32_t>(frames_.size() + fusion_->framesAwaitingIntegration());
   s.pending_segmentations = static_cast<uint32_t>(fusion_->pendingSegmentations());
   s.history_frames = static_cast<uint32_t>(fusion_->historyFrames());
   s.voxel_size = config_.volume.voxel_size;
@@ -278,9 +285,22 @@ ServerStatus FusionServer::snapshot() const {
   const auto now = std::chrono::steady_clock::now();
   for (const auto& [id, a] : state_.cameras()) {
     const float age = static_cast<float>(std::chrono::duration<double>(now - a.last_frame_time).count());
-    s.cameras.push_back({id, a.tracking_state, a.last_seq, a.frames_received, a.frames_integrated, a.frames_lost,
-                         static_cast<float>(a.rate_hz), age, age > config_.camera_stale_after_s, a.lost_reason,
-                         a.frames_since_lost, a.relocalisations});
+    CameraStatus camera;
+    camera.camera_id = id;
+    camera.tracking_state = a.tracking_state;
+    camera.last_seq = a.last_seq;
+    camera.frames_received = a.frames_received;
+    camera.frames_posed = a.frames_posed;
+    camera.frames_integrated = a.frames_integrated;
+    camera.frames_skipped = a.frames_skipped;
+    camera.frames_lost = a.frames_lost;
+    camera.frame_rate_hz = static_cast<float>(a.rate_hz);
+    camera.last_frame_age_s = age;
+    camera.stale = age > config_.camera_stale_after_s;
+    camera.lost_reason = a.lost_reason;
+    camera.frames_since_lost = a.frames_since_lost;
+    camera.relocalisations = a.relocalisations;
+    s.cameras.push_back(std::move(camera));
   }
   for (const auto& e : state_.errors.snapshot())
     s.last_errors.push_back({std::chrono::duration<double>(e.time.time_since_epoch()).count(), e.source, e.message});

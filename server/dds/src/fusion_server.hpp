@@ -1,6 +1,6 @@
 #pragma once
 // FusionServer: semfuse-server assembled. Owns the DDS participant, the map (Mapper), the
-// ingest and fusion threads, the query services, the status/pose/legend publishers and
+// ingest, tracking and fusion threads, the query services, the status/pose/legend publishers and
 // persistence (resume at start, autosave, save at shutdown).
 #include <atomic>
 #include <chrono>
@@ -43,8 +43,8 @@ class FusionServer {
   // The stop sequence, for run() and the destructor alike; the second call does nothing.
   void stop();
   void publishStatus();
-  void frameProcessed(const Frame& frame, const FrameOutcome& outcome);  // the fusion loop's callback
-  void publishPose(const Frame& frame, const FrameOutcome& outcome);
+  void frameTracked(const PosedFrame& frame);  // the tracking threads' callback
+  void publishPose(const PosedFrame& frame);
   Status saveMap(const std::string& path);
 
   ServerConfig config_;

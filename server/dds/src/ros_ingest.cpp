@@ -283,8 +283,8 @@ void RosIngest::count(const RosFrameAssembler::Drop& drop) {
   }
 }
 
-void RosIngest::publishPose(const Frame& frame, const FrameOutcome& outcome) {
-  if (!outcome.integrated || config_.publish_tf == "none") return;
+void RosIngest::publishPose(const Frame& frame, const TrackOutcome& outcome) {
+  if (!outcome.posed() || config_.publish_tf == "none") return;
   if (config_.publish_tf == "tracked" && outcome.pose_state == PoseState::kGiven) return;
   const std::string child = !config_.tf_child_frame.empty() ? config_.tf_child_frame
                             : !frame.frame_id.empty()       ? frame.frame_id

@@ -38,8 +38,8 @@ class RosIngest {
   void start();
   void stop();
 
-  // Publishes world -> camera for a fused frame on /tf, as --ros.publish-tf asks.
-  void publishPose(const Frame& frame, const FrameOutcome& outcome);
+  // Publishes world -> camera for a posed frame on /tf, as --ros.publish-tf asks (tracking threads).
+  void publishPose(const Frame& frame, const TrackOutcome& outcome);
 
  private:
   template <class T>

@@ -6,6 +6,7 @@
 #include <optional>
 
 #include <opencv2/calib3d.hpp>
+#include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "semfuse/tracking/hamming_match.hpp"
@@ -38,17 +39,19 @@ cv::Matx33d cameraMatrix(const PinholeIntrinsics& k) { return {k.fx, 0.0, k.cx, 
 
 }  // namespace
 
-KeypointMap::KeypointMap(KeypointParams params)
-    : params_(params), orb_(cv::ORB::create(std::max(1, params.features))) {}
+KeypointMap::KeypointMap(KeypointParams params) : params_(params) {}
 
-FrameKeypoints KeypointMap::detect(const cv::Mat& color, const cv::Mat& depth, const PinholeIntrinsics& intrinsics) {
+FrameKeypoints KeypointMap::detect(const cv::Mat& color, const cv::Mat& depth,
+                                   const PinholeIntrinsics& intrinsics) const {
   FrameKeypoints out;
   if (color.empty() || depth.empty() || color.type() != CV_8UC3 || depth.type() != CV_32FC1) return out;
   cv::Mat gray;
   cv::cvtColor(color, gray, cv::COLOR_RGB2GRAY);
   std::vector<cv::KeyPoint> keypoints;
   cv::Mat descriptors;
-  orb_->detectAndCompute(gray, cv::noArray(), keypoints, descriptors);
+  // A detector per call: OpenCV does not promise that one may serve several threads at once, and
+  // making one costs nothing beside the detection.
+  cv::ORB::create(std::max(1, params_.features))->detectAndCompute(gray, cv::noArray(), keypoints, descriptors);
   // Colour and depth may differ in size: a keypoint reads the depth at the same place in the image.
   const double to_depth_u = static_cast<double>(depth.cols) / color.cols;
   const double to_depth_v = static_cast<double>(depth.rows) / color.rows;
@@ -149,8 +152,7 @@ bool KeypointMap::solve(const FrameKeypoints& frame, const PinholeIntrinsics& in
     pixels.push_back(frame.pixels[q]);
   }
   out.keyframe = keyframes.front();
-  last_world_ = world;
-  last_pixels_ = pixels;
+  last_ = {world, pixels};
   out.matches = static_cast<int>(world.size());
   if (out.matches < std::max(params_.min_matches, 4)) return false;
   const cv::Matx33d k = cameraMatrix(intrinsics);
@@ -182,21 +184,21 @@ bool KeypointMap::solve(const FrameKeypoints& frame, const PinholeIntrinsics& in
   return true;
 }
 
-int KeypointMap::explained(const Pose& camera_to_world, const PinholeIntrinsics& intrinsics, double max_px) const {
+int KeypointMatches::explainedBy(const Pose& camera_to_world, const PinholeIntrinsics& intrinsics,
+                                 double max_px) const {
   const Eigen::Isometry3d world_to_camera = camera_to_world.inverse();
   int count = 0;
-  for (std::size_t i = 0; i < last_world_.size(); ++i) {
-    const Eigen::Vector3d p = world_to_camera * Eigen::Vector3d(last_world_[i].x, last_world_[i].y, last_world_[i].z);
+  for (std::size_t i = 0; i < world.size(); ++i) {
+    const Eigen::Vector3d p = world_to_camera * Eigen::Vector3d(world[i].x, world[i].y, world[i].z);
     if (p.z() <= 0.0) continue;
     const double u = intrinsics.fx * p.x() / p.z() + intrinsics.cx, v = intrinsics.fy * p.y() / p.z() + intrinsics.cy;
-    if (std::hypot(u - last_pixels_[i].x, v - last_pixels_[i].y) <= max_px) ++count;
+    if (std::hypot(u - pixels[i].x, v - pixels[i].y) <= max_px) ++count;
   }
   return count;
 }
 
 std::optional<KeypointPose> KeypointMap::locate(const FrameKeypoints& frame, const PinholeIntrinsics& intrinsics) {
-  last_world_.clear();
-  last_pixels_.clear();
+  last_ = {};
   if (frame.size() < static_cast<std::size_t>(params_.min_matches) || keyframes_.empty()) return std::nullopt;
   const std::vector<int> votes = vote(frame);
   std::vector<std::size_t> order(votes.size());

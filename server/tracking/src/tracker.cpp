@@ -29,8 +29,13 @@ const char* toString(TrackingStatus status) {
   return "unknown";
 }
 
-// Everything the tracker remembers about one camera between its frames.
+// Everything the tracker remembers about one camera between its frames, and the buffers its
+// frames are tracked with (each camera its own, so that cameras are tracked concurrently).
 struct Tracker::CameraState {
+  explicit CameraState(const TrackerParams& params) : aligner(params) {}
+
+  SdfTracker aligner;                 // keeps its buffers between frames
+  ImagePyramid current_images;        // of the frame being tracked
   bool placed = false;                // has a pose in the world frame (an integrated frame)
   Pose last_pose = Pose::Identity();  // last pose a frame was integrated at
   // Camera motion between the last two good frames, in the camera frame (T_prev^-1 T_last): the
@@ -90,11 +95,15 @@ Result<Pose> rigidGivenPose(const Pose& pose) {
 }  // namespace
 
 Tracker::Tracker(TrackerConfig config)
-    : config_(std::move(config)),
-      aligner_(config_.alignment),
-      keyframes_(config_.keyframes),
-      keypoints_(config_.keypoints) {}
+    : config_(std::move(config)), keyframes_(config_.keyframes), keypoints_(config_.keypoints) {}
 Tracker::~Tracker() = default;
+
+Tracker::CameraState& Tracker::stateOf(const std::string& camera_id) {
+  std::lock_guard lock(cameras_mutex_);
+  auto& slot = cameras_[camera_id];
+  if (!slot) slot = std::make_unique<CameraState>(config_.alignment);
+  return *slot;
+}
 
 Result<TrackedFrame> Tracker::track(const Frame& frame, const SdfField& field, bool map_empty) {
   if (Status status = validateDepthImage(frame.depth, frame.intrinsics); !status) return makeError(status.error());
@@ -104,20 +113,18 @@ Result<TrackedFrame> Tracker::track(const Frame& frame, const SdfField& field, b
     if (!rigid) return makeError(rigid.error());
     given = rigid.value();
   }
-  auto& slot = cameras_[frame.camera_id];
-  if (!slot) slot = std::make_unique<CameraState>();
-  CameraState& state = *slot;
+  CameraState& state = stateOf(frame.camera_id);
   const bool use_given = given && config_.given_pose == GivenPosePolicy::kUseAsIs;
   // A camera with poses needs its images only now and then, for keyframes.
   bool images_due =
       !use_given ||
       state.summary.frames % static_cast<uint64_t>(std::max(1, config_.given_pose_keyframe_interval)) == 0;
   if (images_due) {
-    Status built = aligner_.setFrame(frame.depth, frame.color, frame.intrinsics);
+    Status built = state.aligner.setFrame(frame.depth, frame.color, frame.intrinsics);
     // A frame that carries its pose needs no images to be integrated: one too small for the
     // pyramid just never becomes a keyframe.
     if (!built && !use_given) return makeError(built.error());
-    if (built) current_images_.build(aligner_.pyramid());
+    if (built) state.current_images.build(state.aligner.pyramid());
     images_due = built.ok();
   }
 
@@ -127,7 +134,7 @@ Result<TrackedFrame> Tracker::track(const Frame& frame, const SdfField& field, b
     out.pose = out.guess = *given;
   } else if (given) {
     out.guess = *given;
-    Result<Alignment> aligned = aligner_.align(field, {out.guess});
+    Result<Alignment> aligned = state.aligner.align(field, {out.guess});
     if (!aligned) return makeError(aligned.error());
     out.quality = aligned.value().quality;
     out.lost_reason = aligned.value().lost_reason;
@@ -146,12 +153,16 @@ Result<TrackedFrame> Tracker::track(const Frame& frame, const SdfField& field, b
     const bool partial = out.status == TrackingStatus::kTracked && out.lost_reason == LostReason::kDegenerate;
     state.partial_run = partial ? state.partial_run + 1 : 0;
     state.last_images_fresh = images_due;
-    if (images_due) std::swap(state.last_images, current_images_);
+    if (images_due) std::swap(state.last_images, state.current_images);
     if (out.status == TrackingStatus::kTracked) {
       state.agreements.push_back(out.quality.observed_agreement);
       while (state.agreements.size() > static_cast<std::size_t>(std::max(1, config_.agreement_history)))
         state.agreements.pop_front();
     }
+    // The keyframe candidate's own copy: the camera's buffers belong to its next frames by the
+    // time the frame is integrated.
+    if (images_due) out.keyframe_images = std::make_shared<const ImagePyramid>(state.last_images.cloneFrom(1));
+    out.typical_agreement = state.typicalAgreement();
   } else {
     out.pose = state.last_pose;
     state.lose();
@@ -180,7 +191,7 @@ Result<TrackedFrame> Tracker::trackWithoutPose(const Frame& frame, const SdfFiel
   std::vector<Pose> starts;
   if (state.last_images_fresh && !state.last_images.empty()) {
     const OdometryResult odometry =
-        alignImages(state.last_images, current_images_, state.velocity.inverse(), config_.odometry);
+        alignImages(state.last_images, state.current_images, state.velocity.inverse(), config_.odometry);
     out.image_matched = usableImageAlignment(odometry) ? odometry.matched_ratio : 0.0;
     if (usableImageAlignment(odometry))
       starts.push_back(orthonormalized(state.last_pose * odometry.current_from_reference.inverse()));
@@ -191,7 +202,7 @@ Result<TrackedFrame> Tracker::trackWithoutPose(const Frame& frame, const SdfFiel
   } else {
     out.guess = starts.front();
   }
-  Result<Alignment> aligned = aligner_.align(field, starts);
+  Result<Alignment> aligned = state.aligner.align(field, starts);
   if (!aligned) return makeError(aligned.error());
   out.quality = aligned.value().quality;
   out.lost_reason = aligned.value().lost_reason;
@@ -256,34 +267,43 @@ bool Tracker::trusted(const Alignment& alignment, const Pose& start, double imag
   return agreement >= config_.confirm_min_agreement && (!typical || agreement >= *typical - config_.max_agreement_drop);
 }
 
-Result<TrackedFrame> Tracker::relocalise(const Frame& frame, const SdfField& field, const CameraState& state,
+Result<TrackedFrame> Tracker::relocalise(const Frame& frame, const SdfField& field, CameraState& state,
                                          const std::vector<Pose>& extra, LostReason reason_if_not_found) {
   TrackedFrame out;
   out.status = TrackingStatus::kLost;
   out.lost_reason = reason_if_not_found;
   out.pose = state.last_pose;
-  if (aligner_.pyramid().points(0).empty()) {
+  if (state.aligner.pyramid().points(0).empty()) {
     out.lost_reason = LostReason::kNoValidDepth;
     return out;
   }
   // Each near keyframe proposes the pose that aligns its images with the frame's.
   std::vector<Pose> starts;
   std::vector<double> matched;
-  const std::vector<uint8_t> code = keyframes_.encode(current_images_);
-  for (const KeyframeMatch& match : keyframes_.nearest(code, config_.relocalisation_candidates)) {
-    const Keyframe& keyframe = keyframes_.keyframe(match.index);
-    const OdometryResult odometry = alignImages(keyframe.images, current_images_, Pose::Identity(), config_.odometry);
-    if (!usableImageAlignment(odometry)) continue;
-    starts.push_back(orthonormalized(keyframe.camera_to_world * odometry.current_from_reference.inverse()));
-    matched.push_back(odometry.matched_ratio);
-  }
-  // Keypoints matched one by one reach viewpoints the ferns' whole-image comparison does not.
-  const bool keypoints_tried = config_.keypoint_relocalisation && keypoints_.keyframes() > 0;
-  if (keypoints_tried) {
-    const FrameKeypoints keypoints = keypoints_.detect(frame.color, frame.depth, frame.intrinsics);
-    if (const std::optional<KeypointPose> found = keypoints_.locate(keypoints, frame.intrinsics)) {
-      starts.push_back(found->camera_to_world);
-      matched.push_back(0.0);
+  bool keypoints_tried = false;
+  KeypointMatches keypoint_matches;  // what the keypoint search tried, to judge the pose by
+  {
+    const bool keypoints_wanted = config_.keypoint_relocalisation && !frame.color.empty();
+    const FrameKeypoints keypoints =
+        keypoints_wanted ? keypoints_.detect(frame.color, frame.depth, frame.intrinsics) : FrameKeypoints{};
+    std::lock_guard memory(memory_mutex_);
+    const std::vector<uint8_t> code = keyframes_.encode(state.current_images);
+    for (const KeyframeMatch& match : keyframes_.nearest(code, config_.relocalisation_candidates)) {
+      const Keyframe& keyframe = keyframes_.keyframe(match.index);
+      const OdometryResult odometry =
+          alignImages(keyframe.images, state.current_images, Pose::Identity(), config_.odometry);
+      if (!usableImageAlignment(odometry)) continue;
+      starts.push_back(orthonormalized(keyframe.camera_to_world * odometry.current_from_reference.inverse()));
+      matched.push_back(odometry.matched_ratio);
+    }
+    // Keypoints matched one by one reach viewpoints the ferns' whole-image comparison does not.
+    keypoints_tried = config_.keypoint_relocalisation && keypoints_.keyframes() > 0;
+    if (keypoints_tried) {
+      if (const std::optional<KeypointPose> found = keypoints_.locate(keypoints, frame.intrinsics)) {
+        starts.push_back(found->camera_to_world);
+        matched.push_back(0.0);
+      }
+      keypoint_matches = keypoints_.lastMatches();
     }
   }
   for (const Pose& pose : extra) {
@@ -291,16 +311,16 @@ Result<TrackedFrame> Tracker::relocalise(const Frame& frame, const SdfField& fie
     matched.push_back(0.0);
   }
   if (starts.empty()) return out;
-  Result<Alignment> aligned = aligner_.align(field, starts);
+  Result<Alignment> aligned = state.aligner.align(field, starts);
   if (!aligned) return makeError(aligned.error());
   out.quality = aligned.value().quality;
   out.image_matched = matched[static_cast<std::size_t>(aligned.value().quality.start)];
   out.guess = starts[static_cast<std::size_t>(aligned.value().quality.start)];
   out.pose = aligned.value().pose;
-  const int keypoint_support = !keypoints_tried
-                                   ? 0
-                                   : keypoints_.explained(out.pose, frame.intrinsics,
-                                                          config_.keypoint_support_px * frame.intrinsics.width / 640.0);
+  const int keypoint_support =
+      !keypoints_tried ? 0
+                       : keypoint_matches.explainedBy(out.pose, frame.intrinsics,
+                                                      config_.keypoint_support_px * frame.intrinsics.width / 640.0);
   if (!trusted(aligned.value(), out.guess, out.image_matched, state, /*allow_partial=*/false, keypoint_support)) {
     if (!aligned.value().ok()) out.lost_reason = aligned.value().lost_reason;
     return out;
@@ -326,47 +346,60 @@ Result<TrackedFrame> Tracker::relocaliseConfirmed(const Frame& frame, const SdfF
     return out;
   if (state.candidate) {
     const OdometryResult motion =
-        alignImages(state.candidate_images, current_images_, Pose::Identity(), config_.odometry);
+        alignImages(state.candidate_images, state.current_images, Pose::Identity(), config_.odometry);
     if (usableImageAlignment(motion) &&
         smallCorrection(*state.candidate * motion.current_from_reference.inverse(), out.pose,
                         config_.max_image_correction_m, config_.max_image_correction_rad))
       return out;
   }
   state.candidate = out.pose;
-  state.candidate_images = current_images_.cloneFrom(0);
+  state.candidate_images = state.current_images.cloneFrom(0);
   out.status = TrackingStatus::kLost;
   out.lost_reason = LostReason::kUnconfirmed;
   return out;
 }
 
 void Tracker::integrated(const Frame& frame, const TrackedFrame& tracked) {
-  if (!tracked.shouldIntegrate()) return;
-  auto found = cameras_.find(frame.camera_id);
-  if (found == cameras_.end() || !found->second->last_images_fresh) return;
+  if (!tracked.shouldIntegrate() || !tracked.keyframe_images) return;
   // Only frames whose pose is beyond doubt become keyframes: a wrong keyframe would relocalise a
   // camera to a wrong pose later.
   if (tracked.lost_reason == LostReason::kDegenerate) return;
   if (tracked.status == TrackingStatus::kTracked) {
-    const std::optional<double> typical = found->second->typicalAgreement();
+    const std::optional<double>& typical = tracked.typical_agreement;
     if (typical && tracked.quality.observed_agreement < *typical - 0.5 * config_.max_agreement_drop) return;
   }
-  if (keyframes_.addIfNovel(frame.camera_id, tracked.pose, found->second->last_images) &&
-      config_.keypoint_relocalisation)
-    keypoints_.add(keypoints_.detect(frame.color, frame.depth, frame.intrinsics), tracked.pose);
+  std::unique_lock memory(memory_mutex_);
+  if (!keyframes_.addIfNovel(frame.camera_id, tracked.pose, *tracked.keyframe_images) ||
+      !config_.keypoint_relocalisation)
+    return;
+  // The detection (milliseconds) without the lock: a relocalising camera need not wait for it.
+  memory.unlock();
+  FrameKeypoints keypoints = keypoints_.detect(frame.color, frame.depth, frame.intrinsics);
+  memory.lock();
+  keypoints_.add(keypoints, tracked.pose);
 }
 
 void Tracker::reset() {
+  std::scoped_lock lock(cameras_mutex_, memory_mutex_);
   cameras_.clear();
   keyframes_.clear();
   keypoints_.clear();
 }
 
+std::size_t Tracker::keyframes() const {
+  std::lock_guard lock(memory_mutex_);
+  return keyframes_.size();
+}
+
+// A camera's summary is written by the thread that tracks it: read from that thread.
 CameraTrackingSummary Tracker::camera(const std::string& camera_id) const {
+  std::lock_guard lock(cameras_mutex_);
   auto found = cameras_.find(camera_id);
   return found == cameras_.end() ? CameraTrackingSummary{} : found->second->summary;
 }
 
 std::map<std::string, CameraTrackingSummary> Tracker::cameras() const {
+  std::lock_guard lock(cameras_mutex_);
   std::map<std::string, CameraTrackingSummary> out;
   for (const auto& [id, state] : cameras_) out[id] = state->summary;
   return out;

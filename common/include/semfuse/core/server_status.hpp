@@ -18,8 +18,10 @@ struct CameraStatus {
   uint8_t tracking_state = 0;  // PoseState: 0 given, 1 tracked, 2 refined, 3 lost
   uint64_t last_seq = 0;
   uint64_t frames_received = 0;
-  uint64_t frames_integrated = 0;
-  uint64_t frames_lost = 0;
+  uint64_t frames_posed = 0;       // given or tracked a pose
+  uint64_t frames_integrated = 0;  // of those, fused into the map
+  uint64_t frames_skipped = 0;     // of those, passed over by integration for a newer frame
+  uint64_t frames_lost = 0;        // tracking lost: no pose
   float frame_rate_hz = 0.0F;
   float last_frame_age_s = 0.0F;
   bool stale = false;
@@ -47,7 +49,9 @@ struct ServerStatus {
   std::string version;
   double uptime_s = 0.0;
   uint64_t frames_received = 0;
+  uint64_t frames_posed = 0;
   uint64_t frames_integrated = 0;
+  uint64_t frames_skipped = 0;
   uint64_t frames_lost = 0;
   uint64_t segmentations_received = 0;
   uint64_t segmentations_integrated = 0;

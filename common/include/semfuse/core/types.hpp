@@ -81,13 +81,12 @@ struct TrackedPose {
   Stamp stamp;
   std::string frame_id;
   PoseState state = PoseState::kGiven;
-  bool integrated = false;
+  bool posed = false;  // has a pose and goes to the map; false when tracking is lost
   Pose camera_to_world = Pose::Identity();
   float inlier_ratio = 0.0f;
   float residual = 0.0f;
   uint32_t iterations = 0;
   float track_ms = 0.0f;
-  float integrate_ms = 0.0f;
 };
 
 }  // namespace semfuse

@@ -13,7 +13,6 @@
 
 #include <opencv2/core/mat.hpp>
 #include <opencv2/core/types.hpp>
-#include <opencv2/features2d.hpp>
 
 #include "semfuse/core/types.hpp"
 
@@ -51,13 +50,22 @@ struct KeypointPose {
   int inliers = 0;           // of them, explained by the pose
 };
 
+// Keypoints of a frame matched to world points of the keyframes.
+struct KeypointMatches {
+  std::vector<cv::Point3f> world;
+  std::vector<cv::Point2f> pixels;  // the frame's, one per world point
+  // How many of them a pose projects within max_px of their pixel.
+  int explainedBy(const Pose& camera_to_world, const PinholeIntrinsics& intrinsics, double max_px) const;
+};
+
 class KeypointMap {
  public:
   explicit KeypointMap(KeypointParams params = {});
 
   // The ORB keypoints of a frame's colour (CV_8UC3 RGB) that have a depth (CV_32FC1 metres) on a
   // surface, not on a depth edge. Empty without colour.
-  FrameKeypoints detect(const cv::Mat& color, const cv::Mat& depth, const PinholeIntrinsics& intrinsics);
+  // Safe to call from several threads at once.
+  FrameKeypoints detect(const cv::Mat& color, const cv::Mat& depth, const PinholeIntrinsics& intrinsics) const;
 
   // Remembers a keyframe's keypoints at its pose.
   void add(const FrameKeypoints& keypoints, const Pose& camera_to_world);
@@ -67,7 +75,11 @@ class KeypointMap {
 
   // Of the matches the last locate() tried, how many a pose projects within max_px of their pixel:
   // evidence for a pose found by other means that does not depend on the depth.
-  int explained(const Pose& camera_to_world, const PinholeIntrinsics& intrinsics, double max_px) const;
+  int explained(const Pose& camera_to_world, const PinholeIntrinsics& intrinsics, double max_px) const {
+    return last_.explainedBy(camera_to_world, intrinsics, max_px);
+  }
+  // Those matches, to judge a pose by after the map has moved on to another search.
+  const KeypointMatches& lastMatches() const { return last_; }
 
   std::size_t keyframes() const { return keyframes_.size(); }
   std::size_t descriptors() const { return static_cast<std::size_t>(all_descriptors_.rows); }
@@ -84,14 +96,11 @@ class KeypointMap {
              const std::vector<std::size_t>& keyframes, KeypointPose& out);
 
   KeypointParams params_;
-  cv::Ptr<cv::ORB> orb_;
   std::vector<StoredKeyframe> keyframes_;
   cv::Mat all_descriptors_;      // every keyframe's descriptors, one after another
   std::vector<uint32_t> owner_;  // the keyframe of each row of all_descriptors_
   std::size_t next_row_ = 0;     // where the next turn of a large map's search starts
-  // The matches the last locate() tried: world points and the frame's pixels they matched.
-  std::vector<cv::Point3f> last_world_;
-  std::vector<cv::Point2f> last_pixels_;
+  KeypointMatches last_;         // the matches the last locate() tried
 };
 
 }  // namespace semfuse::tracking

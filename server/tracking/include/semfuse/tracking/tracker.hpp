@@ -10,9 +10,15 @@
 //    new frame is searched for among the keyframes the map has seen, until one is verified by
 //    alignment. A camera that joins a map without a pose is placed the same way.
 // A wrong pose must never reach the map: every pose that is integrated passed the quality tests.
+//
+// Threads: track() may run for several cameras at once (each camera's frames one at a time, in
+// order), beside integrated() from the thread that writes the map; reset() only while no track()
+// runs (the server holds the map's exclusive lock for it, tracking its shared one).
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <mutex>
+#include <optional>
 #include <string>
 
 #include "semfuse/core/result.hpp"
@@ -52,6 +58,10 @@ struct TrackedFrame {
   // The image alignment the SDF alignment started from (to the last frame, or to a keyframe when
   // relocalising): the share of its points matched, 0 when none ran or it was not used.
   double image_matched = 0.0;
+  // What integrated() needs to make the frame a keyframe once it is in the map: its small images
+  // (when they were built for this frame) and the camera's typical agreement at the time.
+  std::shared_ptr<const ImagePyramid> keyframe_images;
+  std::optional<double> typical_agreement;
   bool shouldIntegrate() const { return status != TrackingStatus::kLost; }
 };
 
@@ -143,7 +153,8 @@ class Tracker {
   // non-rigid given pose), which leave every camera's state untouched.
   Result<TrackedFrame> track(const Frame& frame, const SdfField& field, bool map_empty);
 
-  // The frame was integrated at tracked.pose: it may become a keyframe for relocalisation.
+  // The frame was integrated at tracked.pose: it may become a keyframe for relocalisation. Frames
+  // tracked but never integrated (skipped under load) are simply not passed here.
   void integrated(const Frame& frame, const TrackedFrame& tracked);
 
   // The map was cleared or replaced: every camera starts over, every keyframe is forgotten.
@@ -152,14 +163,15 @@ class Tracker {
   std::map<std::string, CameraTrackingSummary> cameras() const;
   // One camera's (all zero for a camera the tracker has not seen).
   CameraTrackingSummary camera(const std::string& camera_id) const;
-  std::size_t keyframes() const { return keyframes_.size(); }
+  std::size_t keyframes() const;
   const TrackerConfig& config() const { return config_; }
 
  private:
   struct CameraState;
+  CameraState& stateOf(const std::string& camera_id);
   Result<TrackedFrame> trackWithoutPose(const Frame& frame, const SdfField& field, bool map_empty, CameraState& state);
   // Searches the keyframes (and `extra` starts) for the frame's pose; kRelocalised or kLost.
-  Result<TrackedFrame> relocalise(const Frame& frame, const SdfField& field, const CameraState& state,
+  Result<TrackedFrame> relocalise(const Frame& frame, const SdfField& field, CameraState& state,
                                   const std::vector<Pose>& extra, LostReason reason_if_not_found);
   // relocalise(), and a found pose is integrated only once the next frame confirms it.
   Result<TrackedFrame> relocaliseConfirmed(const Frame& frame, const SdfField& field, CameraState& state,
@@ -174,10 +186,14 @@ class Tracker {
   bool usableImageAlignment(const OdometryResult& odometry) const;
 
   TrackerConfig config_;
-  SdfTracker aligner_;           // keeps its buffers between frames
-  ImagePyramid current_images_;  // of the frame being tracked
+  // Where the map was seen from, shared by every camera: read by relocalisation, written by
+  // integrated(). The keypoint map keeps its last search for explained(), so one user at a time.
+  mutable std::mutex memory_mutex_;
   KeyframeStore keyframes_;
   KeypointMap keypoints_;  // of the keyframes, in the same order
+  // Each camera's state, its aligner and image buffers included; the map's lookups under the
+  // mutex, a state itself used by the one thread that tracks its camera.
+  mutable std::mutex cameras_mutex_;
   std::map<std::string, std::unique_ptr<CameraState>> cameras_;
 };
 
