@@ -187,6 +187,10 @@ const bool track_registered = registerBench(
           ->capture_default_str();
       command.add_option("--mid-points", tp.pyramid.max_points[1], "points at 320x240")->capture_default_str();
       command.add_option("--coarse-points", tp.pyramid.max_points[2], "points at 160x120")->capture_default_str();
+      command
+          .add_option("--odometry-points", options->run.tracker.odometry.max_points[0],
+                      "image alignment points at 160x120, its finest level (0 = every pixel with depth)")
+          ->capture_default_str();
       command.add_option("--fine-iters", tp.max_iterations[0], "iterations at 640x480")->capture_default_str();
       command.add_option("--mid-iters", tp.max_iterations[1], "iterations at 320x240")->capture_default_str();
       command.add_option("--coarse-iters", tp.max_iterations[2], "iterations at 160x120")->capture_default_str();

@@ -6,6 +6,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
+#include <opencv2/core.hpp>
 
 #include "semfuse/tracking/normal_equations.hpp"
 #include "semfuse/tracking/se3.hpp"
@@ -88,12 +89,18 @@ struct ReferencePoint {
   float intensity;  // NaN without intensity
 };
 
-std::vector<ReferencePoint> referencePoints(const ImageLevel& level) {
+// The pixels with depth, on a grid of stride s (in both directions) such that about max_points remain.
+std::vector<ReferencePoint> referencePoints(const ImageLevel& level, std::size_t max_points) {
   std::vector<ReferencePoint> points;
   const PinholeIntrinsics& k = level.intrinsics;
   const bool with_intensity = !level.intensity.empty();
-  for (int v = 0; v < level.depth.rows; ++v)
-    for (int u = 0; u < level.depth.cols; ++u) {
+  int stride = 1;
+  if (max_points > 0) {
+    const auto valid = static_cast<double>(cv::countNonZero(level.depth > 0.0f));
+    stride = std::max(1, static_cast<int>(std::lround(std::sqrt(valid / static_cast<double>(max_points)))));
+  }
+  for (int v = 0; v < level.depth.rows; v += stride)
+    for (int u = 0; u < level.depth.cols; u += stride) {
       const float z = level.depth.at<float>(v, u);
       if (!(z > 0.0f)) continue;
       points.push_back(
@@ -192,7 +199,7 @@ OdometryResult alignImages(const ImagePyramid& reference, const ImagePyramid& cu
   std::vector<ReferencePoint> points;
   const int finest = std::max(reference.finestLevel(), current.finestLevel());
   for (int level = ImagePyramid::kLevels - 1; level >= finest; --level) {
-    points = referencePoints(reference.level(level));
+    points = referencePoints(reference.level(level), params.max_points[static_cast<std::size_t>(level)]);
     const CurrentLevel target = prepareCurrent(current.level(level));
     double length = 0.0;
     for (const auto& p : points) length += p.point.z();
