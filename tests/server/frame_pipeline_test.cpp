@@ -37,8 +37,8 @@ Frame pipelineWall(const std::string& camera, uint64_t seq, bool with_pose) {
   Frame frame;
   frame.camera_id = camera;
   frame.seq = seq;
-  frame.intrinsics = {kPipelineWidth, kPipelineHeight, 50.0, 50.0, kPipelineWidth / 2.0 - 0.5,
-                      kPipelineHeight / 2.0 - 0.5};
+  frame.intrinsics = {
+      kPipelineWidth, kPipelineHeight, 50.0, 50.0, kPipelineWidth / 2.0 - 0.5, kPipelineHeight / 2.0 - 0.5};
   frame.depth = cv::Mat(kPipelineHeight, kPipelineWidth, CV_32FC1, cv::Scalar(1.5f));
   if (with_pose) frame.camera_to_world = Pose::Identity();
   return frame;

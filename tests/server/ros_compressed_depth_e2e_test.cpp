@@ -1,6 +1,9 @@
 // semfuse-server's ROS 2 input reading compressed depth (compressed_depth_image_transport's
 // format) over loopback DDS: RVL and PNG depth of the synthetic room are fused, a cut RVL image
 // is rejected and counted with its reason, and the server keeps going.
+#include <atomic>
+#include <thread>
+
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>
 
@@ -41,7 +44,24 @@ TEST(RosCompressedDepthEndToEnd, RvlAndPngDepthAreFusedAndABrokenOneIsCounted) {
     return wire::depthMetresToUnits(frame.value().depth, 0.001);
   };
   const Stamp stamp{1700000000, 0};
-  ASSERT_TRUE(info.write(wire::cameraInfoFromIntrinsics(config.intrinsics, stamp, "depth_optical").msg()).ok());
+  // The CameraInfo comes again and again, as from a camera driver: a best-effort sample written
+  // before the server's reader has matched this writer is lost, and a depth image waits for one.
+  const auto camera_info = wire::cameraInfoFromIntrinsics(config.intrinsics, stamp, "depth_optical");
+  std::atomic<bool> sending_info{true};
+  std::thread info_sender([&] {
+    while (sending_info) {
+      (void)info.write(camera_info.msg());
+      std::this_thread::sleep_for(20ms);
+    }
+  });
+  struct StopSending {
+    std::atomic<bool>& flag;
+    std::thread& thread;
+    ~StopSending() {
+      flag = false;
+      thread.join();
+    }
+  } stop_sending{sending_info, info_sender};
 
   // Each depth image is the server's next ROS frame (1, 2, ...); its pose says it was fused.
   auto send = [&](const std::string& compression, int index, uint32_t nanosec, uint32_t cut_bytes = 0) {

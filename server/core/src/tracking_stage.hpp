@@ -23,8 +23,8 @@ class TrackingStage {
   using PoseCallback = std::function<void(const PosedFrame&)>;
 
   // threads: 0 = one per core, at most 4.
-  TrackingStage(Mapper& mapper, FrameQueue& frames, IntegrationQueue& integration, ServerState& state,
-                size_t threads, PoseCallback on_pose);
+  TrackingStage(Mapper& mapper, FrameQueue& frames, IntegrationQueue& integration, ServerState& state, size_t threads,
+                PoseCallback on_pose);
   ~TrackingStage();
 
   void start();
