@@ -1,0 +1,63 @@
+#!/usr/bin/env bash
+# Regenerates the service's figures under docs/figures/: each file is the output of one
+# benchmark run on this machine, with the command that made it as its first line.
+#
+#   deploy/figures.sh                 all of them (about 15 minutes on 2 cores)
+#   deploy/figures.sh load-robot ...  only the named ones
+#   deploy/figures.sh --no-build ...  use the existing build
+#
+# load-robot   semfuse-bench load --scenario robot: one tracked camera at 30 Hz, its segmenter, light queries
+# load-full    semfuse-bench load --scenario full: 4 cameras (2 tracked), 2 segmenters, heavy queries
+# load-cores   the robot scenario with the server pinned to 1 core, then to 2 (taskset)
+# track        semfuse-bench track: every case of freiburg1_xyz, redkitchen and the synthetic room, in process
+# track-server deploy/track.sh: the same sequence through the server at 30 Hz
+# Needs ../shared (or $SEMFUSE_SHARED). Run it with nothing else on the machine.
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+build=1
+build_dir="$root/build/release"
+names=()
+while [[ $# -gt 0 ]]; do
+  case "$1" in
+    --no-build) build=0; shift ;;
+    --build-dir) build_dir="$2"; shift 2 ;;
+    -h|--help) sed -n '2,14p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -*) echo "figures: unknown option $1" >&2; exit 2 ;;
+    *) names+=("$1"); shift ;;
+  esac
+done
+[[ ${#names[@]} -gt 0 ]] || names=(load-robot load-full load-cores track track-server)
+
+shared="${SEMFUSE_SHARED:-$root/../shared}"
+kitchen="$shared/data/7scenes-redkitchen"
+tum="$shared/data/rgbd_dataset_freiburg1_xyz"
+[[ -d "$kitchen" && -d "$tum" ]] || { echo "figures: shared data missing under $shared" >&2; exit 1; }
+
+[[ $build -eq 1 ]] && "$root/deploy/build.sh" release
+bench="$build_dir/server/bench/semfuse-bench"
+[[ -x "$bench" ]] || { echo "figures: $bench not built" >&2; exit 1; }
+out="$root/docs/figures"
+mkdir -p "$out"
+
+# Runs a command, writing "$ command" and its output (progress bars aside) to docs/figures/NAME.txt.
+figure() {
+  local name="$1"; shift
+  echo "figures: $name"
+  { printf '$ %s\n\n' "$*" | sed "s|$root/||g; s|$shared|../shared|g"
+    "$@" 2>/dev/null | sed "s|$shared|../shared|g"; } >"$out/$name.txt.tmp"
+  mv "$out/$name.txt.tmp" "$out/$name.txt"
+}
+
+for name in "${names[@]}"; do
+  case "$name" in
+    load-robot) figure load-robot "$bench" load --data "$kitchen" --scenario robot --duration 60 ;;
+    load-full) figure load-full "$bench" load --data "$kitchen" --scenario full --duration 60 ;;
+    load-cores) figure load-cores "$bench" load --data "$kitchen" --scenario robot --duration 30 --compare-cores ;;
+    track) figure track "$bench" track ;;
+    track-server) figure track-server bash -c "'$root/deploy/track.sh' --no-build --build-dir '$build_dir' \
+                    --out '$root/out/figures-track' >/dev/null && cat '$root/out/figures-track/ate.txt' \
+                    '$root/out/figures-track/status.txt'" ;;
+    *) echo "figures: unknown figure $name" >&2; exit 2 ;;
+  esac
+done
+echo "figures: written to docs/figures/"
