@@ -44,7 +44,7 @@ figure() {
   local name="$1"; shift
   echo "figures: $name"
   { printf '$ %s\n\n' "$*" | sed "s|$root/||g; s|$shared|../shared|g"
-    "$@" 2>/dev/null | sed "s|$shared|../shared|g"; } >"$out/$name.txt.tmp"
+    "$@" 2>/dev/null | sed "s|$root/||g; s|$shared|../shared|g"; } >"$out/$name.txt.tmp"
   mv "$out/$name.txt.tmp" "$out/$name.txt"
 }
 
