@@ -15,41 +15,21 @@
 #include "integration_queue.hpp"
 #include "mapper.hpp"
 #include "server_state.hpp"
+#include "wall_scene.hpp"
 
 using namespace semfuse;
 using namespace semfuse::server;
+using namespace semfuse::server::wall_scene;
 using namespace std::chrono_literals;
 
 namespace {
-
-constexpr int kPipelineWidth = 64, kPipelineHeight = 48;
-
-MapperOptions pipelineMapper() {
-  MapperOptions options;
-  options.volume.voxel_size = 0.02;
-  options.volume.truncation = 0.08;
-  options.legend = *builtinLegend("synthetic");
-  return options;
-}
-
-// A wall 1.5 m in front of the camera; with a pose, at the origin.
-Frame pipelineWall(const std::string& camera, uint64_t seq, bool with_pose) {
-  Frame frame;
-  frame.camera_id = camera;
-  frame.seq = seq;
-  frame.intrinsics = {
-      kPipelineWidth, kPipelineHeight, 50.0, 50.0, kPipelineWidth / 2.0 - 0.5, kPipelineHeight / 2.0 - 0.5};
-  frame.depth = cv::Mat(kPipelineHeight, kPipelineWidth, CV_32FC1, cv::Scalar(1.5f));
-  if (with_pose) frame.camera_to_world = Pose::Identity();
-  return frame;
-}
 
 Segmentation pipelineLabels(const std::string& camera, uint64_t seq) {
   Segmentation segmentation;
   segmentation.camera_id = camera;
   segmentation.segmenter_id = "s";
   segmentation.frame_seq = seq;
-  segmentation.labels = cv::Mat(kPipelineHeight, kPipelineWidth, CV_16UC1, cv::Scalar(1));
+  segmentation.labels = cv::Mat(kWallHeight, kWallWidth, CV_16UC1, cv::Scalar(1));
   return segmentation;
 }
 
@@ -155,7 +135,7 @@ TEST(IntegrationQueue, EveryFrameHandsOutOneAtATimeAndHoldsTrackingBackAtItsCapa
 }
 
 TEST(FramePipeline, EveryFrameIsPosedInOrderWhileIntegrationIsHeldAndTheRestAreSkippedNotDropped) {
-  Mapper mapper(pipelineMapper());
+  Mapper mapper(wallMapOptions());
   FrameQueue frames(16);
   ServerState state;
   PoseLog log;
@@ -167,7 +147,7 @@ TEST(FramePipeline, EveryFrameIsPosedInOrderWhileIntegrationIsHeldAndTheRestAreS
   {
     HeldFusion held(loop);
     for (uint64_t seq = 1; seq <= kFrames; ++seq) {
-      ASSERT_FALSE(frames.push(pipelineWall("a", seq, true)));
+      ASSERT_FALSE(frames.push(wallFrame("a", seq, true)));
       // Labels of every other frame, waiting for their frame.
       if (seq % 2 == 0) loop.submitSegmentation(pipelineLabels("a", seq));
     }
@@ -196,7 +176,7 @@ TEST(FramePipeline, EveryFrameIsPosedInOrderWhileIntegrationIsHeldAndTheRestAreS
 }
 
 TEST(FramePipeline, ASegmentationOfASkippedFrameThatComesLaterIsStillFused) {
-  Mapper mapper(pipelineMapper());
+  Mapper mapper(wallMapOptions());
   FrameQueue frames(16);
   ServerState state;
   PoseLog log;
@@ -204,7 +184,7 @@ TEST(FramePipeline, ASegmentationOfASkippedFrameThatComesLaterIsStillFused) {
   loop.start();
   {
     HeldFusion held(loop);
-    for (uint64_t seq = 1; seq <= 3; ++seq) ASSERT_FALSE(frames.push(pipelineWall("a", seq, true)));
+    for (uint64_t seq = 1; seq <= 3; ++seq) ASSERT_FALSE(frames.push(wallFrame("a", seq, true)));
     ASSERT_TRUE(waitFor([&] { return loop.framesAwaitingIntegration() == 3; }));
     ASSERT_TRUE(held.release());
   }
@@ -217,7 +197,7 @@ TEST(FramePipeline, ASegmentationOfASkippedFrameThatComesLaterIsStillFused) {
 }
 
 TEST(FramePipeline, WithEveryFrameIntegratedNoneIsSkipped) {
-  Mapper mapper(pipelineMapper());
+  Mapper mapper(wallMapOptions());
   FrameQueue frames(16);
   ServerState state;
   PoseLog log;
@@ -228,7 +208,7 @@ TEST(FramePipeline, WithEveryFrameIntegratedNoneIsSkipped) {
   constexpr uint64_t kFrames = 8;
   {
     HeldFusion held(loop);
-    for (uint64_t seq = 1; seq <= kFrames; ++seq) ASSERT_FALSE(frames.push(pipelineWall("a", seq, true)));
+    for (uint64_t seq = 1; seq <= kFrames; ++seq) ASSERT_FALSE(frames.push(wallFrame("a", seq, true)));
     // Tracking runs ahead of the held integration by a bounded number of frames.
     ASSERT_TRUE(waitFor([&] { return loop.framesAwaitingIntegration() == 2; }));
     ASSERT_TRUE(held.release());
@@ -240,7 +220,7 @@ TEST(FramePipeline, WithEveryFrameIntegratedNoneIsSkipped) {
 }
 
 TEST(FramePipeline, APosedFrameOfAMapReplacedSinceIsCountedNotIntegrated) {
-  Mapper mapper(pipelineMapper());
+  Mapper mapper(wallMapOptions());
   FrameQueue frames(16);
   ServerState state;
   PoseLog log;
@@ -258,7 +238,7 @@ TEST(FramePipeline, APosedFrameOfAMapReplacedSinceIsCountedNotIntegrated) {
         60s);
   });
   started.get_future().wait();
-  ASSERT_FALSE(frames.push(pipelineWall("a", 1, true)));
+  ASSERT_FALSE(frames.push(wallFrame("a", 1, true)));
   ASSERT_TRUE(waitFor([&] { return log.count.load() == 1; }));
   release.set_value();
   ASSERT_TRUE(reset.get().ok());
@@ -272,15 +252,15 @@ TEST(FramePipeline, APosedFrameOfAMapReplacedSinceIsCountedNotIntegrated) {
 // world, and the other camera is tracked against it once it is in the map, not given a second
 // world of its own (it sees only a wall, which no keyframe can place: it stays lost).
 TEST(FramePipeline, OnlyOneCameraDefinesTheWorldOfAnEmptyMap) {
-  Mapper mapper(pipelineMapper());
+  Mapper mapper(wallMapOptions());
   FrameQueue frames(16);
   ServerState state;
   PoseLog log;
   FusionLimits limits;
   limits.tracking_threads = 2;
   FusionLoop loop(mapper, frames, state, limits, log.callback());
-  ASSERT_FALSE(frames.push(pipelineWall("a", 1, false)));
-  ASSERT_FALSE(frames.push(pipelineWall("b", 1, false)));
+  ASSERT_FALSE(frames.push(wallFrame("a", 1, false)));
+  ASSERT_FALSE(frames.push(wallFrame("b", 1, false)));
   loop.start();
   ASSERT_TRUE(waitFor([&] { return log.count.load() == 2 && loop.idle(); }));
   loop.stop();

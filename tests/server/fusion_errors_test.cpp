@@ -15,33 +15,14 @@
 #include "semfuse/wire/reply_status.hpp"
 #include "server_state.hpp"
 #include "srv.h"
+#include "wall_scene.hpp"
 
 using namespace semfuse;
 using namespace semfuse::server;
+using namespace semfuse::server::wall_scene;
 using namespace std::chrono_literals;
 
 namespace {
-
-constexpr int kWidth = 64, kHeight = 48;
-
-MapperOptions mapperOptions(double voxel_size = 0.02) {
-  MapperOptions options;
-  options.volume.voxel_size = voxel_size;
-  options.volume.truncation = 0.08;
-  options.legend = *builtinLegend("synthetic");
-  return options;
-}
-
-// A wall 1.5 m in front of the camera.
-Frame wallFrame(const std::string& camera, uint64_t seq, bool with_pose) {
-  Frame frame;
-  frame.camera_id = camera;
-  frame.seq = seq;
-  frame.intrinsics = {kWidth, kHeight, 50.0, 50.0, kWidth / 2.0 - 0.5, kHeight / 2.0 - 0.5};
-  frame.depth = cv::Mat(kHeight, kWidth, CV_32FC1, cv::Scalar(1.5f));
-  if (with_pose) frame.camera_to_world = Pose::Identity();
-  return frame;
-}
 
 void waitIdle(const FusionLoop& loop) {
   for (int i = 0; i < 400 && !loop.idle(); ++i) std::this_thread::sleep_for(5ms);
@@ -51,7 +32,7 @@ void waitIdle(const FusionLoop& loop) {
 }  // namespace
 
 TEST(FusionErrors, FramesPassedOverForANewerOneAreCountedAsStale) {
-  Mapper mapper(mapperOptions());
+  Mapper mapper(wallMapOptions());
   // Backlog time zero: a camera behind at a single turn has its newest fused.
   FrameQueue frames(4, 20ms, 0ms);
   ServerState state;
@@ -69,7 +50,7 @@ TEST(FusionErrors, FramesPassedOverForANewerOneAreCountedAsStale) {
 }
 
 TEST(FusionErrors, MalformedFramesAreIntegrationFailuresAnUnplacedCameraIsLostNotRejected) {
-  Mapper mapper(mapperOptions());
+  Mapper mapper(wallMapOptions());
   FrameQueue frames(4);
   ServerState state;
   FusionLoop loop(mapper, frames, state, FusionLimits{}, nullptr);
@@ -81,7 +62,7 @@ TEST(FusionErrors, MalformedFramesAreIntegrationFailuresAnUnplacedCameraIsLostNo
   ASSERT_FALSE(frames.push(wallFrame("b", 1, false)));
   // A frame whose depth does not match its intrinsics is refused as malformed.
   Frame mismatched = wallFrame("c", 1, true);
-  mismatched.depth = cv::Mat(kHeight / 2, kWidth / 2, CV_32FC1, cv::Scalar(1.5f));
+  mismatched.depth = cv::Mat(kWallHeight / 2, kWallWidth / 2, CV_32FC1, cv::Scalar(1.5f));
   ASSERT_FALSE(frames.push(mismatched));
   waitIdle(loop);
   loop.stop();
@@ -101,7 +82,7 @@ TEST(FusionErrors, MalformedFramesAreIntegrationFailuresAnUnplacedCameraIsLostNo
 // A segmentation that waits for a frame the queue then drops is counted as soon as a later frame
 // of its camera is fused, not left to be evicted (pending_full) or to time out.
 TEST(FusionErrors, ASegmentationOfADroppedFrameIsCountedWhenALaterFrameIsFused) {
-  Mapper mapper(mapperOptions());
+  Mapper mapper(wallMapOptions());
   FrameQueue frames(1);
   ServerState state;
   FusionLimits limits;
@@ -128,7 +109,7 @@ TEST(FusionErrors, ASegmentationOfADroppedFrameIsCountedWhenALaterFrameIsFused) 
     segmentation.camera_id = "a";
     segmentation.segmenter_id = "s";
     segmentation.frame_seq = seq;
-    segmentation.labels = cv::Mat(kHeight, kWidth, CV_16UC1, cv::Scalar(1));
+    segmentation.labels = cv::Mat(kWallHeight, kWallWidth, CV_16UC1, cv::Scalar(1));
     loop.submitSegmentation(std::move(segmentation));
   }
   ASSERT_FALSE(frames.push(wallFrame("a", 2, true)));
@@ -151,7 +132,7 @@ TEST(FusionErrors, ASegmentationOfADroppedFrameIsCountedWhenALaterFrameIsFused) 
 }
 
 TEST(FusionErrors, MapperNeverPlacesASecondPoselessCameraAtAGuess) {
-  Mapper mapper(mapperOptions());
+  Mapper mapper(wallMapOptions());
   // The first camera of an empty map defines the world frame: no pose needed.
   ASSERT_TRUE(mapper.integrateFrame(wallFrame("a", 1, false)).ok());
   auto second = mapper.integrateFrame(wallFrame("b", 1, false));
@@ -165,7 +146,7 @@ TEST(FusionErrors, MapperNeverPlacesASecondPoselessCameraAtAGuess) {
 TEST(FusionErrors, AdminLoadFailuresCarryTheCodeTheServiceRepliesWith) {
   const auto folder = std::filesystem::temp_directory_path() / ("semfuse_fusion_errors_" + std::to_string(::getpid()));
   std::filesystem::create_directories(folder);
-  Mapper mapper(mapperOptions(0.02));
+  Mapper mapper(wallMapOptions(0.02));
 
   Status missing = mapper.load(folder / "no_such_map.vdb");
   ASSERT_FALSE(missing.ok());
@@ -173,7 +154,7 @@ TEST(FusionErrors, AdminLoadFailuresCarryTheCodeTheServiceRepliesWith) {
   EXPECT_EQ(wire::replyStatusOf(missing.errorCode()), semfuse_srv_dds__Status_Constants_NOT_FOUND);
 
   // A map of another voxel size is refused without touching the server's map.
-  Mapper other(mapperOptions(0.04));
+  Mapper other(wallMapOptions(0.04));
   ASSERT_TRUE(other.integrateFrame(wallFrame("a", 1, true)).ok());
   ASSERT_TRUE(other.save(folder / "coarse.vdb").ok());
   Status incompatible = mapper.load(folder / "coarse.vdb");
@@ -190,7 +171,7 @@ TEST(FusionErrors, AdminLoadFailuresCarryTheCodeTheServiceRepliesWith) {
 }
 
 TEST(FusionErrors, ATaskTheFusionThreadDoesNotRunInTimeIsUnavailable) {
-  Mapper mapper(mapperOptions());
+  Mapper mapper(wallMapOptions());
   FrameQueue frames(4);
   ServerState state;
   FusionLoop loop(mapper, frames, state, FusionLimits{}, nullptr);  // not started: nothing runs tasks

@@ -12,23 +12,17 @@
 #include "fusion_loop.hpp"
 #include "mapper.hpp"
 #include "server_state.hpp"
+#include "wall_scene.hpp"
 
 using namespace semfuse;
 using namespace semfuse::server;
+using namespace semfuse::server::wall_scene;
 using namespace std::chrono_literals;
 
 namespace {
 
 // What the admin service waits for a task; long enough that waiting it out fails every check below.
 constexpr auto kTaskTimeout = 10s;
-
-MapperOptions smallMap() {
-  MapperOptions options;
-  options.volume.voxel_size = 0.02;
-  options.volume.truncation = 0.08;
-  options.legend = *builtinLegend("synthetic");
-  return options;
-}
 
 double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -43,7 +37,7 @@ std::function<Status()> noting(std::atomic<bool>& ran) {
 }
 
 struct Loop {
-  Mapper mapper{smallMap()};
+  Mapper mapper{wallMapOptions()};
   FrameQueue frames{4};
   ServerState state;
   FusionLoop loop{mapper, frames, state, FusionLimits{}, nullptr};

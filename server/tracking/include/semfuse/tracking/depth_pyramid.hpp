@@ -27,9 +27,8 @@ struct PyramidParams {
   float merge_relative = 0.03f;
   float merge_absolute_m = 0.01f;
   // Most points used per level; a level with more valid pixels is sampled on a regular pixel
-  // grid (stride chosen per frame) — the alignment cost is linear in the points. 2,000 give the
-  // poses of 6,000 on freiburg1_xyz (same ATE and hard cases in semfuse-bench track) at half the
-  // tracking CPU.
+  // grid (stride chosen per frame) — the alignment cost is linear in the points, and beyond a
+  // few thousand more points no longer move the pose (semfuse-bench track --fine-points ...).
   std::array<std::size_t, kMaxPyramidLevels> max_points{2000, 2000, 2000, 2000};  // 0 = all
   // Gaussian blur (pixels of the input resolution) of the intensity image before it is sampled:
   // the fused colour it is compared with is blurred over a voxel, several pixels wide.
