@@ -170,27 +170,23 @@ void RosIngest::takeAll() {
 // A ROS frame arrives as two images, each decoded as it comes: each is a run of the frame decode
 // stage (a JPEG colour image is most of a frame's decode).
 void RosIngest::onDepth(const sensor_msgs_msg_dds__Image_& msg) {
-  const uint64_t seq = next_seq_++;
-  ++state_.frames_received;
-  state_.frameArrived(config_.camera_id, seq);
-  const auto start = std::chrono::steady_clock::now();
-  auto depth = wire::depthImageToMetres(msg);
-  state_.stages.recordSince(Stage::kFrameDecode, start);
-  addDepth(msg.header, std::move(depth), seq, "ROS depth image ");
+  addDepth(
+      msg.header, [&] { return wire::depthImageToMetres(msg); }, "ROS depth image ");
 }
 
 void RosIngest::onCompressedDepth(const sensor_msgs_msg_dds__CompressedImage_& msg) {
+  addDepth(
+      msg.header, [&] { return wire::compressedDepthToMetres(msg); }, "ROS compressed depth image ");
+}
+
+void RosIngest::addDepth(const std_msgs_msg_dds__Header_& header, const std::function<Result<cv::Mat>()>& decode,
+                         const char* what) {
   const uint64_t seq = next_seq_++;
   ++state_.frames_received;
   state_.frameArrived(config_.camera_id, seq);
   const auto start = std::chrono::steady_clock::now();
-  auto depth = wire::compressedDepthToMetres(msg);
+  Result<cv::Mat> depth = decode();
   state_.stages.recordSince(Stage::kFrameDecode, start);
-  addDepth(msg.header, std::move(depth), seq, "ROS compressed depth image ");
-}
-
-void RosIngest::addDepth(const std_msgs_msg_dds__Header_& header, Result<cv::Mat> depth, uint64_t seq,
-                         const char* what) {
   if (!depth.ok()) {
     state_.reject(reason::kInvalidFrame, config_.camera_id, what + std::to_string(seq), depth.error());
     return;

@@ -6,6 +6,7 @@
 // Frames and hands those to the same per-camera queue as the native ingest. Every image given
 // up is counted in ServerStatus with its reason. Poses the server uses go out on /tf.
 #include <atomic>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <thread>
@@ -54,8 +55,10 @@ class RosIngest {
   void takeAll();
   void onDepth(const sensor_msgs_msg_dds__Image_& msg);
   void onCompressedDepth(const sensor_msgs_msg_dds__CompressedImage_& msg);
-  // A decoded depth image of either depth topic, or why it did not decode, to the assembler.
-  void addDepth(const std_msgs_msg_dds__Header_& header, Result<cv::Mat> depth, uint64_t seq, const char* what);
+  // A depth image of either depth topic: numbered and counted, decoded (timed as the frame decode
+  // stage), then handed to the assembler or rejected with why it did not decode.
+  void addDepth(const std_msgs_msg_dds__Header_& header, const std::function<Result<cv::Mat>()>& decode,
+                const char* what);
   void onColor(const sensor_msgs_msg_dds__Image_& msg);
   void onCompressedColor(const sensor_msgs_msg_dds__CompressedImage_& msg);
   void onCameraInfo(const sensor_msgs_msg_dds__CameraInfo_& msg);
