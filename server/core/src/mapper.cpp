@@ -46,14 +46,37 @@ PoseState poseStateOf(tracking::TrackingStatus status) {
 }
 }  // namespace
 
+namespace {
+// The map as the tracker reads it: under the shared lock for each alignment only, so that the
+// rest of tracking (pyramids, image alignment, keypoints) leaves the map to the fusion thread.
+class LockedMapField final : public tracking::SdfField {
+ public:
+  // truncation: read under the lock; a load keeps it (Mapper::load refuses another).
+  LockedMapField(const volume::LabeledVolume& volume, WriterFirstMutex& mutex, float truncation)
+      : field_(volume), mutex_(mutex), truncation_(truncation) {}
+  float truncation() const override { return truncation_; }
+  std::unique_ptr<tracking::SdfSampler> makeSampler() const override { return field_.makeSampler(); }
+  void beginReading() const override { mutex_.lock_shared(); }
+  void endReading() const override { mutex_.unlock_shared(); }
+
+ private:
+  tracking::VolumeField field_;
+  WriterFirstMutex& mutex_;
+  float truncation_;
+};
+}  // namespace
+
 Result<tracking::TrackedFrame> Mapper::choosePose(const Frame& frame, TrackOutcome& outcome) {
   const auto start = std::chrono::steady_clock::now();
-  Result<tracking::TrackedFrame> tracked = tracking::TrackedFrame{};
+  bool map_empty = false;
+  float truncation = 0.0f;
   {
     std::shared_lock lock(mutex_);
-    tracking::VolumeField field(volume_);
-    tracked = tracker_.track(frame, field, volume_.framesIntegrated() == 0);
+    map_empty = volume_.framesIntegrated() == 0;
+    truncation = static_cast<float>(volume_.params().truncation);
   }
+  const LockedMapField field(volume_, mutex_, truncation);
+  Result<tracking::TrackedFrame> tracked = tracker_.track(frame, field, map_empty);
   outcome.track_ms = millisecondsSince(start);
   if (!tracked.ok()) return tracked;
 

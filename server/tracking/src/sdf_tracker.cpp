@@ -159,6 +159,7 @@ Result<Alignment> SdfTracker::align(const SdfField& field, const std::vector<Pos
   if (starts.empty()) return makeError("no starting pose");
   for (const Pose& start : starts)
     if (!start.matrix().allFinite()) return makeError("starting pose is not finite");
+  const FieldReading reading(field);
   const float truncation = field.truncation();
   if (!(truncation > 0.0f) || !std::isfinite(truncation)) return makeError("field truncation must be finite and > 0");
   const bool photometric = params_.color_weight > 0.0f && pyramid_.hasIntensity();

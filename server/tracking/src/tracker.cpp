@@ -98,11 +98,11 @@ Tracker::Tracker(TrackerConfig config)
     : config_(std::move(config)), keyframes_(config_.keyframes), keypoints_(config_.keypoints) {}
 Tracker::~Tracker() = default;
 
-Tracker::CameraState& Tracker::stateOf(const std::string& camera_id) {
+std::shared_ptr<Tracker::CameraState> Tracker::stateOf(const std::string& camera_id) {
   std::lock_guard lock(cameras_mutex_);
   auto& slot = cameras_[camera_id];
-  if (!slot) slot = std::make_unique<CameraState>(config_.alignment);
-  return *slot;
+  if (!slot) slot = std::make_shared<CameraState>(config_.alignment);
+  return slot;
 }
 
 Result<TrackedFrame> Tracker::track(const Frame& frame, const SdfField& field, bool map_empty) {
@@ -113,7 +113,8 @@ Result<TrackedFrame> Tracker::track(const Frame& frame, const SdfField& field, b
     if (!rigid) return makeError(rigid.error());
     given = rigid.value();
   }
-  CameraState& state = stateOf(frame.camera_id);
+  const std::shared_ptr<CameraState> held = stateOf(frame.camera_id);  // alive through a reset()
+  CameraState& state = *held;
   const bool use_given = given && config_.given_pose == GivenPosePolicy::kUseAsIs;
   // A camera with poses needs its images only now and then, for keyframes.
   bool images_due =

@@ -43,6 +43,24 @@ class SdfField {
   // A fresh sampler, valid while the field is not modified (the tracker makes new ones for every
   // frame, since integration changes the field between frames).
   virtual std::unique_ptr<SdfSampler> makeSampler() const = 0;
+
+  // The field does not change between these two calls (the server's map lock; nothing to do for a
+  // field that never changes). The tracker reads the field only inside them, one reading per
+  // alignment, so that what needs no field (pyramids, image alignment, keypoints) leaves it free.
+  virtual void beginReading() const {}
+  virtual void endReading() const {}
+};
+
+// One reading of a field, for as long as it lives.
+class FieldReading {
+ public:
+  explicit FieldReading(const SdfField& field) : field_(field) { field_.beginReading(); }
+  ~FieldReading() { field_.endReading(); }
+  FieldReading(const FieldReading&) = delete;
+  FieldReading& operator=(const FieldReading&) = delete;
+
+ private:
+  const SdfField& field_;
 };
 
 }  // namespace semfuse::tracking

@@ -12,8 +12,9 @@
 // A wrong pose must never reach the map: every pose that is integrated passed the quality tests.
 //
 // Threads: track() may run for several cameras at once (each camera's frames one at a time, in
-// order), beside integrated() from the thread that writes the map; reset() only while no track()
-// runs (the server holds the map's exclusive lock for it, tracking its shared one).
+// order), beside integrated() from the thread that writes the map, and beside reset(): a frame in
+// flight then finishes on the state its camera had, which nothing keeps (the server discards such
+// frames: they were tracked against a map that is gone).
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -168,7 +169,7 @@ class Tracker {
 
  private:
   struct CameraState;
-  CameraState& stateOf(const std::string& camera_id);
+  std::shared_ptr<CameraState> stateOf(const std::string& camera_id);
   Result<TrackedFrame> trackWithoutPose(const Frame& frame, const SdfField& field, bool map_empty, CameraState& state);
   // Searches the keyframes (and `extra` starts) for the frame's pose; kRelocalised or kLost.
   Result<TrackedFrame> relocalise(const Frame& frame, const SdfField& field, CameraState& state,
@@ -194,7 +195,7 @@ class Tracker {
   // Each camera's state, its aligner and image buffers included; the map's lookups under the
   // mutex, a state itself used by the one thread that tracks its camera.
   mutable std::mutex cameras_mutex_;
-  std::map<std::string, std::unique_ptr<CameraState>> cameras_;
+  std::map<std::string, std::shared_ptr<CameraState>> cameras_;
 };
 
 }  // namespace semfuse::tracking
