@@ -103,7 +103,7 @@ Result<PosedFrame> Mapper::track(Frame frame) {
   if (!frame.camera_to_world) {
     std::unique_lock lock(first_frame_mutex_);
     first_frame_done_.wait_for(lock, kFirstFrameWait, [this] { return !first_frame_pending_; });
-    if (size().frames_integrated == 0) empty_map = std::move(lock);
+    if (framesIntegrated() == 0) empty_map = std::move(lock);
   }
   PosedFrame posed;
   auto tracked = choosePose(frame, posed.outcome);
@@ -251,6 +251,11 @@ Mapper::Size Mapper::size() const {
   std::shared_lock lock(mutex_);
   return {volume_.allocatedVoxels(), volume_.allocatedLeaves(), volume_.observedVoxels(), volume_.memoryBytes(),
           volume_.framesIntegrated()};
+}
+
+uint64_t Mapper::framesIntegrated() const {
+  std::shared_lock lock(mutex_);
+  return volume_.framesIntegrated();
 }
 
 uint64_t Mapper::revision() const {

@@ -128,7 +128,8 @@ class Mapper {
     uint64_t memory_bytes = 0;
     uint64_t frames_integrated = 0;
   };
-  Size size() const;
+  Size size() const;  // counts the map's voxels: for the status, not for every frame
+  uint64_t framesIntegrated() const;
   // Incremented by every write; lets status and query caches tell whether the map changed.
   uint64_t revision() const;
 
