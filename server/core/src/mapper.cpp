@@ -51,7 +51,7 @@ namespace {
 // rest of tracking (pyramids, image alignment, keypoints) leaves the map to the fusion thread.
 class LockedMapField final : public tracking::SdfField {
  public:
-  // truncation: read under the lock; a load keeps it (Mapper::load refuses another).
+  // truncation: the server's, which a load keeps (Mapper::load refuses a map with another).
   LockedMapField(const volume::LabeledVolume& volume, WriterFirstMutex& mutex, float truncation)
       : field_(volume), mutex_(mutex), truncation_(truncation) {}
   float truncation() const override { return truncation_; }
@@ -68,15 +68,8 @@ class LockedMapField final : public tracking::SdfField {
 
 Result<tracking::TrackedFrame> Mapper::choosePose(const Frame& frame, TrackOutcome& outcome) {
   const auto start = std::chrono::steady_clock::now();
-  bool map_empty = false;
-  float truncation = 0.0f;
-  {
-    std::shared_lock lock(mutex_);
-    map_empty = volume_.framesIntegrated() == 0;
-    truncation = static_cast<float>(volume_.params().truncation);
-  }
-  const LockedMapField field(volume_, mutex_, truncation);
-  Result<tracking::TrackedFrame> tracked = tracker_.track(frame, field, map_empty);
+  const LockedMapField field(volume_, mutex_, static_cast<float>(options_.volume.truncation));
+  Result<tracking::TrackedFrame> tracked = tracker_.track(frame, field, framesIntegrated() == 0);
   outcome.track_ms = millisecondsSince(start);
   if (!tracked.ok()) return tracked;
 
@@ -136,6 +129,7 @@ Result<volume::IntegrationStats> Mapper::integrate(const PosedFrame& posed, cons
     std::unique_lock lock(mutex_);
     stats = volume::integrate(volume_, posed.frame, segmentation);
     if (stats.ok()) ++revision_;
+    frames_integrated_ = volume_.framesIntegrated();
     // The frame passed the same checks in integrate(): this cannot fail on its input.
     if (stats.ok() && options_.observe_free_space)
       static_cast<void>(volume::observeFreeSpace(volume_, posed.frame.depth, posed.frame.intrinsics,
@@ -203,6 +197,7 @@ Status Mapper::load(const std::filesystem::path& path) {
   loaded.value().volume.continueRevisionsFrom(volume_.revision());
   volume_ = std::move(loaded.value().volume);
   tracker_.reset();  // tracking restarts from the poses the next frames carry
+  frames_integrated_ = volume_.framesIntegrated();
   ++revision_;
   ++epoch_;
   lock.unlock();
@@ -216,6 +211,7 @@ void Mapper::reset() {
     std::unique_lock lock(mutex_);
     volume_.clear();
     tracker_.reset();
+    frames_integrated_ = 0;
     ++revision_;
     ++epoch_;
   }
@@ -253,10 +249,7 @@ Mapper::Size Mapper::size() const {
           volume_.framesIntegrated()};
 }
 
-uint64_t Mapper::framesIntegrated() const {
-  std::shared_lock lock(mutex_);
-  return volume_.framesIntegrated();
-}
+uint64_t Mapper::framesIntegrated() const { return frames_integrated_.load(); }
 
 uint64_t Mapper::revision() const {
   std::shared_lock lock(mutex_);

@@ -150,6 +150,9 @@ class Mapper {
   // tracking holds.
   tracking::Tracker tracker_;
   std::atomic<uint64_t> epoch_{0};
+  // volume_.framesIntegrated(), written under the exclusive lock: tracking reads it without the
+  // lock, which a frame with a pose then never waits for.
+  std::atomic<uint64_t> frames_integrated_{0};
   std::mutex first_frame_mutex_;  // held by pose-less tracking while the map is empty
   std::condition_variable first_frame_done_;
   bool first_frame_pending_ = false;  // a world-defining frame is tracked, not integrated yet

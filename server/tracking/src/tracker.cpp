@@ -5,6 +5,8 @@
 #include <optional>
 #include <string>
 
+#include <tbb/task_arena.h>
+
 #include "semfuse/core/camera_check.hpp"
 #include "semfuse/tracking/depth_pyramid.hpp"
 #include "semfuse/tracking/se3.hpp"
@@ -34,6 +36,11 @@ const char* toString(TrackingStatus status) {
 struct Tracker::CameraState {
   explicit CameraState(const TrackerParams& params) : aligner(params) {}
 
+  // A frame is tracked on its caller's thread alone: at a few thousand points a level, splitting
+  // a pass over cores costs more CPU than it saves time, and a thread waiting for its own
+  // parallel work may pick up another's meanwhile (the server's integration). Cameras are
+  // tracked in parallel instead.
+  tbb::task_arena one_thread{1};
   SdfTracker aligner;                 // keeps its buffers between frames
   ImagePyramid current_images;        // of the frame being tracked
   bool placed = false;                // has a pose in the world frame (an integrated frame)
@@ -114,7 +121,13 @@ Result<TrackedFrame> Tracker::track(const Frame& frame, const SdfField& field, b
     given = rigid.value();
   }
   const std::shared_ptr<CameraState> held = stateOf(frame.camera_id);  // alive through a reset()
-  CameraState& state = *held;
+  std::optional<Result<TrackedFrame>> out;
+  held->one_thread.execute([&] { out = trackCamera(frame, given, field, map_empty, *held); });
+  return std::move(*out);
+}
+
+Result<TrackedFrame> Tracker::trackCamera(const Frame& frame, const std::optional<Pose>& given, const SdfField& field,
+                                          bool map_empty, CameraState& state) {
   const bool use_given = given && config_.given_pose == GivenPosePolicy::kUseAsIs;
   // A camera with poses needs its images only now and then, for keyframes.
   bool images_due =

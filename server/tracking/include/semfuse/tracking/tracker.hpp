@@ -170,6 +170,9 @@ class Tracker {
  private:
   struct CameraState;
   std::shared_ptr<CameraState> stateOf(const std::string& camera_id);
+  // track() for a valid frame (given: its rigid pose, if it carries one), on the calling thread.
+  Result<TrackedFrame> trackCamera(const Frame& frame, const std::optional<Pose>& given, const SdfField& field,
+                                   bool map_empty, CameraState& state);
   Result<TrackedFrame> trackWithoutPose(const Frame& frame, const SdfField& field, bool map_empty, CameraState& state);
   // Searches the keyframes (and `extra` starts) for the frame's pose; kRelocalised or kLost.
   Result<TrackedFrame> relocalise(const Frame& frame, const SdfField& field, CameraState& state,
