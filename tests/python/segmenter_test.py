@@ -26,7 +26,7 @@ def handled(segmenter: semfuse.Segmenter) -> int:
 def publish_in_step(camera: semfuse.CameraPublisher, segmenter: semfuse.Segmenter, seqs, server=None,
                     **frame) -> None:
     """Publishes the wall frames `seqs` one at a time, each once the segmenter (and the server, when
-    given: its pose of the frame) is done with the last, so that none is skipped for a newer one."""
+    given: its pose of the frame) is done with the last."""
     for seq in seqs:
         before = handled(segmenter)
         camera.publish(seq=seq, **{**wall_frame(seq), **frame})

@@ -1,8 +1,10 @@
 // The tracker's per-camera policy: first frame, given poses, refinement, constant-velocity
 // prediction, what a lost frame does to the camera, and a second camera without a pose. Uses the
 // exact field of the room so that only the policy is under test.
+#include <atomic>
 #include <cmath>
 #include <limits>
+#include <thread>
 
 #include <gtest/gtest.h>
 
@@ -158,6 +160,84 @@ TEST_F(CameraTracking, BlindFrameIsLostAndTheNextOneIsTriedFromTheLastGoodPose) 
   EXPECT_LT(translationError(last_good, pathPose(1)), 1e-3);
   EXPECT_FALSE(summary(tracker).lost);
   EXPECT_EQ(summary(tracker).frames_since_lost, 0u);
+}
+
+// The server's field locks the map in beginReading() and unlocks it in endReading(): the tracker
+// must sample only between the two, on the thread that opened the reading, and close every
+// reading it opens; a frame with a pose of its own reads nothing.
+class ReadingCountingField final : public SdfField {
+ public:
+  explicit ReadingCountingField(const SdfField& field) : field_(field) {}
+  float truncation() const override { return field_.truncation(); }
+  std::unique_ptr<SdfSampler> makeSampler() const override {
+    if (open_ == 0 || std::this_thread::get_id() != reader_) ++outside_;
+    return std::make_unique<Sampler>(field_.makeSampler(), *this);
+  }
+  void beginReading() const override {
+    if (open_++ == 0) reader_ = std::this_thread::get_id();
+    ++readings_;
+  }
+  void endReading() const override { --open_; }
+
+  int readings() const { return readings_; }
+  int open() const { return open_; }
+  int outside() const { return outside_; }  // samplers made or used outside a reading or its thread
+
+ private:
+  class Sampler final : public SdfSampler {
+   public:
+    Sampler(std::unique_ptr<SdfSampler> inner, const ReadingCountingField& field)
+        : inner_(std::move(inner)), field_(field) {}
+    bool sample(const Eigen::Vector3f& p, SdfSample& out) override {
+      check();
+      return inner_->sample(p, out);
+    }
+    bool sampleWithIntensity(const Eigen::Vector3f& p, SdfSample& out) override {
+      check();
+      return inner_->sampleWithIntensity(p, out);
+    }
+
+   private:
+    void check() const {
+      if (field_.open_ == 0 || std::this_thread::get_id() != field_.reader_) ++field_.outside_;
+    }
+    std::unique_ptr<SdfSampler> inner_;
+    const ReadingCountingField& field_;
+  };
+
+  const SdfField& field_;
+  mutable std::atomic<int> open_{0};
+  mutable std::atomic<int> readings_{0};
+  mutable std::atomic<int> outside_{0};
+  mutable std::thread::id reader_;
+};
+
+TEST_F(CameraTracking, ReadsTheFieldOnlyInsideReadingsOnItsOwnThread) {
+  const ReadingCountingField counting(field_);
+  Tracker tracker(startingAtThePath());
+  ASSERT_TRUE(tracker.track(frameAt(pathPose(0), false), counting, /*map_empty=*/true).ok());
+  EXPECT_EQ(counting.readings(), 0);  // placed at the initial pose: nothing to align to
+
+  for (int i = 1; i <= 3; ++i) {
+    const int before = counting.readings();
+    Result<TrackedFrame> out = tracker.track(frameAt(pathPose(i), false), counting, false);
+    ASSERT_TRUE(out.ok()) << out.error();
+    EXPECT_TRUE(out.value().shouldIntegrate()) << i;
+    EXPECT_GE(counting.readings(), before + 1) << i;
+  }
+  // A blind frame (no points) and the relocalisation of the next one.
+  Frame blind = frameAt(pathPose(4), false);
+  blind.depth.setTo(std::numeric_limits<float>::quiet_NaN());
+  ASSERT_TRUE(tracker.track(blind, counting, false).ok());
+  ASSERT_TRUE(tracker.track(frameAt(pathPose(5), false), counting, false).ok());
+
+  const int before_given = counting.readings();
+  ASSERT_TRUE(tracker.track(frameAt(pathPose(6), true), counting, false).ok());
+  EXPECT_EQ(counting.readings(), before_given);  // its own pose, used as it is
+
+  EXPECT_GE(counting.readings(), 4);
+  EXPECT_EQ(counting.open(), 0);
+  EXPECT_EQ(counting.outside(), 0);
 }
 
 TEST_F(CameraTracking, MalformedFramesAreErrorsAndLeaveTheCameraAlone) {
