@@ -1,5 +1,8 @@
 #include "semfuse/client/camera_publisher.hpp"
 
+#include <algorithm>
+
+#include "semfuse/dds/match.hpp"
 #include "semfuse/dds/qos.hpp"
 #include "semfuse/dds/topic.hpp"
 #include "semfuse/dds/topics.hpp"
@@ -12,6 +15,9 @@ namespace semfuse::client {
 using FrameMsg = semfuse_msg_dds__Frame_;
 
 namespace {
+
+// How long the first frame to a newly matched reader waits for that reader's acknowledgement.
+constexpr auto kJoinHandshake = DDS_SECS(2);
 
 wire::FrameEncoding wireEncoding(const CameraPublisherOptions& options) {
   wire::FrameEncoding encoding;
@@ -61,6 +67,7 @@ struct CameraPublisher::Impl {
   dds::Topic<FrameMsg> topic;
   dds::Writer<FrameMsg> writer;
   std::size_t last_bytes = 0;
+  int32_t readers_seen = 0;  // readers matched when the last frame was written
 };
 
 CameraPublisher::CameraPublisher(const dds::Participant& participant, CameraPublisherOptions options)
@@ -74,7 +81,17 @@ Status CameraPublisher::publish(const Frame& frame) {
   if (!encoded) return encoded.errorInfo();
   const FrameMsg& msg = encoded.value().msg();
   impl_->last_bytes = msg.depth._length + msg.color._length;
-  return impl_->writer.write(msg);
+  // Our writer matches a reader before that reader has matched us. Frames written in between
+  // wait in the writer's two-deep history, and the next ones would push them out unseen: the
+  // lost frames are the reader's first, so it cannot count them as a gap in the sequence. After
+  // a reader joins, the next frame therefore waits for its acknowledgement, which the reader
+  // sends only once it has matched us.
+  const int32_t readers = dds::readersEverMatched(impl_->writer.handle());
+  const bool reader_joined = readers > impl_->readers_seen;
+  impl_->readers_seen = std::max(readers, impl_->readers_seen);
+  Status written = impl_->writer.write(msg);
+  if (written && reader_joined) (void)impl_->writer.waitForAcknowledgements(kJoinHandshake);
+  return written;
 }
 
 bool CameraPublisher::waitForServer(std::chrono::milliseconds timeout) const {

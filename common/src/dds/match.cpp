@@ -37,6 +37,12 @@ int32_t matchedReaders(dds_entity_t writer) {
   return rc < 0 ? rc : static_cast<int32_t>(status.current_count);
 }
 
+int32_t readersEverMatched(dds_entity_t writer) {
+  dds_publication_matched_status_t status{};
+  const dds_return_t rc = dds_get_publication_matched_status(writer, &status);
+  return rc < 0 ? rc : static_cast<int32_t>(status.total_count);
+}
+
 int32_t matchedWriters(dds_entity_t reader) {
   dds_subscription_matched_status_t status{};
   const dds_return_t rc = dds_get_subscription_matched_status(reader, &status);

@@ -32,6 +32,8 @@ class CameraPublisher {
 
   // Encodes and writes one frame. Fails on a malformed frame or when the server's reader does not
   // acknowledge in time (the writer is reliable: a write blocks while the server is behind).
+  // The first frame after a reader (a server, a segmenter) joins waits up to 2 s for that
+  // reader's acknowledgement, so that discovery does not cost the reader its first frames.
   Status publish(const Frame& frame);
 
   // True once a semfuse server's frames reader is matched, waiting at most `timeout`. A server

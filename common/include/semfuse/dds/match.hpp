@@ -10,6 +10,8 @@ namespace semfuse::dds {
 // Current number of matched readers (of a writer) or writers (of a reader); negative on error.
 int32_t matchedReaders(dds_entity_t writer);
 int32_t matchedWriters(dds_entity_t reader);
+// Readers a writer has matched since it was created, those gone included; negative on error.
+int32_t readersEverMatched(dds_entity_t writer);
 
 // Block until at least `count` remote endpoints are matched or the timeout passes.
 bool waitForReaders(dds_entity_t writer, int32_t count, dds_duration_t timeout);
