@@ -2,6 +2,7 @@
 // CDR bytes and back, what the decoders refuse, and the ROS 2 markers and cloud made of blocks.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -139,6 +140,7 @@ TEST(MapUpdateCodec, BlocksThatDoNotAddUpAreRefused) {
       {"positions", [](MeshBlock& b) { b.positions.pop_back(); }, "positions has 11 values for 4 vertices"},
       {"normals", [](MeshBlock& b) { b.normals.push_back(0); }, "normals has 13 values"},
       {"scores", [](MeshBlock& b) { b.scores.pop_back(); }, "scores has 3 values"},
+      {"score", [](MeshBlock& b) { b.scores[2] = std::nanf(""); }, "vertex 2 has a score that is not a finite number"},
       {"colors", [](MeshBlock& b) { b.colors.resize(6); }, "colors has 6 values"},
       {"own", [](MeshBlock& b) { b.own_vertices = 5; }, "5 own vertices of 4"},
       {"triangle count", [](MeshBlock& b) { b.triangles.pop_back(); }, "not a multiple of 3"},

@@ -1,3 +1,4 @@
+#include <cmath>
 #include <cstring>
 #include <limits>
 #include <string>
@@ -91,6 +92,10 @@ Status validateMeshBlock(const MeshBlock& block) {
   if (Status s = expect("positions", block.positions.size(), 3 * n); !s) return s;
   if (Status s = expect("normals", block.normals.size(), 3 * n); !s) return s;
   if (Status s = expect("scores", block.scores.size(), n); !s) return s;
+  // A NaN or infinite score would reach a follower's viewer page as invalid JSON.
+  for (std::size_t i = 0; i < n; ++i)
+    if (!std::isfinite(block.scores[i]))
+      return makeError(where + ": vertex " + std::to_string(i) + " has a score that is not a finite number");
   if (!block.colors.empty())
     if (Status s = expect("colors", block.colors.size(), 3 * n); !s) return s;
   if (block.own_vertices > n)
