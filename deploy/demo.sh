@@ -5,10 +5,10 @@
 #                                        with 30% pixel noise on every 2nd frame, published late
 #   deploy/demo.sh --dataset 7scenes     7-Scenes redkitchen (../shared) with the ADE20K DeepLab model
 #
-# Installs missing packages and builds first (deploy/build.sh), starts semfuse-server, the camera
-# and the segmenter, waits for the run, then queries the map: a labeled mesh (PLY), raycast
-# images from two viewpoints, and a report, all under out/demo/ (or --out). Every process it
-# starts is stopped when it ends, also on Ctrl-C or failure.
+# Installs the packages it needs and builds only its programs first (deploy/build.sh --demo),
+# starts semfuse-server, the camera and the segmenter, waits for the run, then queries the map:
+# a labeled mesh (PLY), raycast images from two viewpoints, and a report, all under out/demo/
+# (or --out). Every process it starts is stopped when it ends, also on Ctrl-C or failure.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 # shellcheck source=deploy/processes.sh
@@ -40,7 +40,7 @@ while [[ $# -gt 0 ]]; do
 done
 [[ "$dataset" == synthetic || "$dataset" == 7scenes ]] || { echo "demo: --dataset synthetic or 7scenes" >&2; exit 2; }
 
-[[ $build -eq 1 ]] && "$root/deploy/build.sh" release
+[[ $build -eq 1 ]] && "$root/deploy/build.sh" release --demo
 server="$build_dir/server/app/semfuse-server"
 bin="$build_dir/client"
 require_programs "$server" "$bin/semfuse-camera" "$bin/semfuse-segmenter" "$bin/semfuse-query"

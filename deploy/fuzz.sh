@@ -45,12 +45,14 @@ command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -
 # UBSAN_OPTIONS=halt_on_error=1 still makes every other one fatal.
 sanitize="-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined -fsanitize-recover=alignment"
 sanitize+=" -fno-omit-frame-pointer -gline-tables-only"
-cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release \
+generator=()
+[[ -f "$build/CMakeCache.txt" ]] || generator=(-G Ninja)  # a tree made before keeps its generator
+cmake -S "$root" -B "$build" "${generator[@]}" -DCMAKE_BUILD_TYPE=Release \
   -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ "${launcher[@]}" \
   -DCMAKE_CXX_FLAGS="$sanitize" -DCMAKE_C_FLAGS="$sanitize" \
   -DCMAKE_CXX_FLAGS_RELEASE="-O1" -DCMAKE_C_FLAGS_RELEASE="-O1" \
   -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \
-  -DSEMFUSE_BUILD_FUZZERS=ON -DSEMFUSE_BUILD_TESTS=OFF -DSEMFUSE_BUILD_BENCHMARKS=OFF >/dev/null
+  -DSEMFUSE_BUILD_FUZZERS=ON -DSEMFUSE_BUILD_TESTS=OFF -DSEMFUSE_BUILD_BENCHMARKS=OFF -DSEMFUSE_BUILD_VIEWER=OFF >/dev/null
 # Only the fuzzers and the libraries they link: no server, clients or tests.
 if [[ ${#only[@]} -gt 0 ]]; then
   cmake --build "$build" -j "$jobs" --target "${only[@]/#/fuzz_}"

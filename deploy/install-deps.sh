@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages semfuse needs to build, test and run, and only those
-# that are missing. Safe to run any number of times.
-#   deploy/install-deps.sh            build + test + run dependencies
-#   deploy/install-deps.sh --dry-run  print what would be installed
+# Installs the Debian 12 packages semfuse needs, and only those that are missing. Safe to run
+# any number of times.
+#   deploy/install-deps.sh            everything: build, run, test, fuzz (deploy/test.sh, CI)
+#   deploy/install-deps.sh --demo     only what builds and runs the server and its clients (deploy/demo.sh)
+#   deploy/install-deps.sh --dry-run  print what would be installed (after either)
 set -euo pipefail
 
-packages=(
-  build-essential cmake pkg-config git
+# Build and run the server, the camera, the segmenter, the query tool and the demo report.
+demo_packages=(
+  build-essential cmake ninja-build pkg-config
   cyclonedds-dev cyclonedds-tools
   libeigen3-dev
   libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev libopencv-dnn-dev
@@ -15,9 +17,15 @@ packages=(
   libopenvdb-dev libtbb-dev libboost-iostreams-dev
   libspdlog-dev libfmt-dev
   libcli11-dev libyaml-cpp-dev
-  libgtest-dev libgmock-dev libbenchmark-dev
+  procps
+)
+# The rest of the tree: the tests, the viewer, the Python package, the benchmarks' plots, the fuzzers.
+test_packages=(
+  git
+  libgtest-dev libgmock-dev
+  stress-ng  # deploy/test.sh --soak: the CPU hog beside the suite
   gnuplot-nox
-  iproute2 procps openssl tcpdump iceoryx python3  # deploy profiles, PKI and tests (netns, ps, capture, shm, status JSON)
+  iproute2 openssl tcpdump iceoryx python3  # deploy profiles, PKI and tests (netns, capture, shm, status JSON)
   clang libclang-rt-14-dev  # deploy/fuzz.sh: libFuzzer + sanitizers
   clang-format  # deploy/check-format.sh (ctest source_format)
   libboost-dev  # semfuse-viewer: Boost.Beast (HTTP + WebSocket), header-only
@@ -26,10 +34,23 @@ packages=(
   pybind11-dev python3-dev python3-numpy  # the Python package (client/python)
   python3-pytest python3-opencv python3-mypy  # its tests, its OpenCV dnn example, its type-stub check
 )
-command -v npm >/dev/null 2>&1 || packages+=(npm)  # three.js for semfuse-viewer, tests/interop/foxglove; nodesource's nodejs ships its own npm
 
+demo=0
 dry_run=0
-[[ "${1:-}" == "--dry-run" ]] && dry_run=1
+for arg in "$@"; do
+  case "$arg" in
+    --demo) demo=1 ;;
+    --dry-run) dry_run=1 ;;
+    -h|--help) sed -n '2,6p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    *) echo "install-deps: unknown option $arg" >&2; exit 2 ;;
+  esac
+done
+
+packages=("${demo_packages[@]}")
+if [[ $demo -eq 0 ]]; then
+  packages+=("${test_packages[@]}")
+  command -v npm >/dev/null 2>&1 || packages+=(npm)  # three.js for semfuse-viewer, tests/interop/foxglove; nodesource's nodejs ships its own npm
+fi
 
 missing=()
 for p in "${packages[@]}"; do
