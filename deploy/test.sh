@@ -47,7 +47,7 @@ for run in $(seq 1 "$soak"); do
   else
     failed_runs=$((failed_runs + 1))
     echo "test: run $run: failed:"
-    sed -n '/The following tests FAILED:/,$p' "$logs/run-$run.log" | sed -n 's/^\t*[0-9]* - /  /p'
+    sed -n '/The following tests FAILED:/,$p' "$logs/run-$run.log" | sed -n 's/^[[:space:]]*[0-9]* - /  /p'
   fi
 done
 echo "test: soak: $((soak - failed_runs)) of $soak runs passed"

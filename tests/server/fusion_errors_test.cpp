@@ -24,9 +24,15 @@ using namespace std::chrono_literals;
 
 namespace {
 
+// Waits for a condition; the bound only ends a test that would otherwise hang.
+template <class Condition>
+bool eventually(Condition condition) {
+  for (int i = 0; i < 6000 && !condition(); ++i) std::this_thread::sleep_for(5ms);
+  return condition();
+}
+
 void waitIdle(const FusionLoop& loop) {
-  for (int i = 0; i < 400 && !loop.idle(); ++i) std::this_thread::sleep_for(5ms);
-  ASSERT_TRUE(loop.idle());
+  ASSERT_TRUE(eventually([&] { return loop.idle(); }));
 }
 
 }  // namespace
@@ -87,12 +93,15 @@ TEST(FusionErrors, ASegmentationOfADroppedFrameIsCountedWhenALaterFrameIsFused) 
   ServerState state;
   FusionLimits limits;
   limits.pending_timeout_s = 60.0;
+  // Every frame integrated: a tracking thread then waits, holding its camera, while 2 frames wait
+  // for the fusion thread, which lets the test fill the frame queue however the threads are
+  // scheduled (a tracking thread that is free takes a queued frame at once).
+  limits.integrate_every_frame = true;
   FusionLoop loop(mapper, frames, state, limits, nullptr);
   loop.start();
   ASSERT_FALSE(frames.push(wallFrame("a", 1, true)));
   waitIdle(loop);
-  // Segmentations of frames 2 and 4 arrive first and wait; frame 2 is then dropped at the full
-  // queue (the fusion thread is held by a task meanwhile) and frame 3 is fused.
+  // Segmentations of frames 5 and 7 arrive first and wait, while the fusion thread is held by a task.
   std::promise<void> started, release;
   auto held = std::async(std::launch::async, [&] {
     return loop.runOnFusionThread(
@@ -101,10 +110,10 @@ TEST(FusionErrors, ASegmentationOfADroppedFrameIsCountedWhenALaterFrameIsFused) 
           release.get_future().wait();
           return Status::Ok();
         },
-        10s);
+        60s);
   });
   started.get_future().wait();
-  for (uint64_t seq : {2u, 4u}) {
+  for (uint64_t seq : {5u, 7u}) {
     Segmentation segmentation;
     segmentation.camera_id = "a";
     segmentation.segmenter_id = "s";
@@ -112,16 +121,24 @@ TEST(FusionErrors, ASegmentationOfADroppedFrameIsCountedWhenALaterFrameIsFused) 
     segmentation.labels = cv::Mat(kWallHeight, kWallWidth, CV_16UC1, cv::Scalar(1));
     loop.submitSegmentation(std::move(segmentation));
   }
-  ASSERT_FALSE(frames.push(wallFrame("a", 2, true)));
-  const auto evicted = frames.push(wallFrame("a", 3, true));
+  // Frames 2 and 3 wait for integration; the tracking thread holds frame 4 until there is room.
+  for (uint64_t seq : {2u, 3u, 4u}) {
+    ASSERT_FALSE(frames.push(wallFrame("a", seq, true)));
+    ASSERT_TRUE(eventually([&] { return frames.size() == 0; })) << "frame " << seq << " was not taken";
+  }
+  ASSERT_TRUE(eventually([&] { return loop.framesAwaitingIntegration() == 2 && frames.held() == 1; }));
+  // Frame 5 is queued behind it, and dropped at the full queue for frame 6.
+  ASSERT_FALSE(frames.push(wallFrame("a", 5, true)));
+  const auto evicted = frames.push(wallFrame("a", 6, true));
   ASSERT_TRUE(evicted);
-  EXPECT_EQ(evicted->seq, 2u);
+  EXPECT_EQ(evicted->seq, 5u);
   release.set_value();
   ASSERT_TRUE(held.get().ok());
   waitIdle(loop);
-  EXPECT_EQ(state.dropped.get(reason::kFrameDropped, "a"), 1u);  // the one of frame 2
-  EXPECT_EQ(loop.pendingSegmentations(), 1u);                    // frame 4's still waits
-  ASSERT_FALSE(frames.push(wallFrame("a", 4, true)));
+  EXPECT_EQ(state.frames_integrated.load(), 5u);                 // 1, 2, 3, 4 and 6
+  EXPECT_EQ(state.dropped.get(reason::kFrameDropped, "a"), 1u);  // the one of frame 5
+  EXPECT_EQ(loop.pendingSegmentations(), 1u);                    // frame 7's still waits
+  ASSERT_FALSE(frames.push(wallFrame("a", 7, true)));
   waitIdle(loop);
   loop.stop();
   EXPECT_EQ(loop.pendingSegmentations(), 0u);
