@@ -20,6 +20,11 @@ jobs="${SEMFUSE_JOBS:-$(nproc)}"
 cd "$root"
 
 cache="$root/build/$preset/CMakeCache.txt"
+# The presets generate for Ninja; a tree configured for another generator cannot be reused.
+if [[ -f "$cache" ]] && ! grep -q '^CMAKE_GENERATOR:INTERNAL=Ninja$' "$cache"; then
+  echo "build: build/$preset was configured for another generator than Ninja; configuring it anew" >&2
+  rm -rf "$root/build/$preset"
+fi
 if [[ $demo -eq 1 ]]; then
   "$root/deploy/install-deps.sh" --demo
   # The same build tree as the full build, with the parts the demo does not run switched off, so
