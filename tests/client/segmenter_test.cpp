@@ -9,6 +9,7 @@
 #include <opencv2/core.hpp>
 
 #include SEMFUSE_DDS_TEST_ENV
+#include "eventually.hpp"
 #include "semfuse/client/camera_publisher.hpp"
 #include "semfuse/client/segmenter.hpp"
 #include "semfuse/dds/participant.hpp"
@@ -20,6 +21,7 @@ namespace semfuse::client {
 namespace {
 
 using SegmentationMsg = semfuse_msg_dds__Segmentation_;
+using semfuse::testing::eventually;
 
 Frame flatFrame(uint64_t seq, float depth_m) {
   Frame f;
@@ -28,18 +30,6 @@ Frame flatFrame(uint64_t seq, float depth_m) {
   f.intrinsics = {32, 24, 30.0, 30.0, 15.5, 11.5};
   f.depth = cv::Mat(24, 32, CV_32FC1, cv::Scalar(depth_m));
   return f;
-}
-
-// Polls `done` until it holds or 20 s pass; the bound only guards against a hang, the
-// assertions are on what happened, never on how long it took.
-template <class Predicate>
-bool eventually(Predicate done) {
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
-  while (!done()) {
-    if (std::chrono::steady_clock::now() > deadline) return false;
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
-  return true;
 }
 
 class SegmenterTest : public ::testing::Test {

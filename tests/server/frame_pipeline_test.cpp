@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include "eventually.hpp"
 #include "fusion_loop.hpp"
 #include "integration_queue.hpp"
 #include "mapper.hpp"
@@ -20,6 +21,7 @@
 using namespace semfuse;
 using namespace semfuse::server;
 using namespace semfuse::server::wall_scene;
+using semfuse::testing::eventually;
 using namespace std::chrono_literals;
 
 namespace {
@@ -46,15 +48,6 @@ struct PoseLog {
     };
   }
 };
-
-template <class Condition>
-bool waitFor(Condition condition) {
-  for (int i = 0; i < 2000; ++i) {
-    if (condition()) return true;
-    std::this_thread::sleep_for(5ms);
-  }
-  return condition();
-}
 
 // Holds the fusion thread in a task until released.
 class HeldFusion {
@@ -152,11 +145,11 @@ TEST(FramePipeline, EveryFrameIsPosedInOrderWhileIntegrationIsHeldAndTheRestAreS
       if (seq % 2 == 0) loop.submitSegmentation(pipelineLabels("a", seq));
     }
     // Every pose goes out although nothing is integrated.
-    ASSERT_TRUE(waitFor([&] { return log.count.load() == kFrames && loop.framesAwaitingIntegration() == kFrames; }));
+    ASSERT_TRUE(eventually([&] { return log.count.load() == kFrames && loop.framesAwaitingIntegration() == kFrames; }));
     EXPECT_EQ(state.frames_integrated.load(), 0u);
     ASSERT_TRUE(held.release());
   }
-  ASSERT_TRUE(waitFor([&] { return loop.idle(); }));
+  ASSERT_TRUE(eventually([&] { return loop.idle(); }));
   loop.stop();
 
   {
@@ -185,13 +178,13 @@ TEST(FramePipeline, ASegmentationOfASkippedFrameThatComesLaterIsStillFused) {
   {
     HeldFusion held(loop);
     for (uint64_t seq = 1; seq <= 3; ++seq) ASSERT_FALSE(frames.push(wallFrame("a", seq, true)));
-    ASSERT_TRUE(waitFor([&] { return loop.framesAwaitingIntegration() == 3; }));
+    ASSERT_TRUE(eventually([&] { return loop.framesAwaitingIntegration() == 3; }));
     ASSERT_TRUE(held.release());
   }
-  ASSERT_TRUE(waitFor([&] { return loop.idle(); }));
+  ASSERT_TRUE(eventually([&] { return loop.idle(); }));
   ASSERT_EQ(state.frames_skipped.load(), 2u);
   loop.submitSegmentation(pipelineLabels("a", 1));  // frame 1 was skipped
-  ASSERT_TRUE(waitFor([&] { return state.segmentations_integrated.load() == 1; }));
+  ASSERT_TRUE(eventually([&] { return state.segmentations_integrated.load() == 1; }));
   loop.stop();
   EXPECT_EQ(state.rejected.snapshot().size(), 0u);
 }
@@ -210,10 +203,10 @@ TEST(FramePipeline, WithEveryFrameIntegratedNoneIsSkipped) {
     HeldFusion held(loop);
     for (uint64_t seq = 1; seq <= kFrames; ++seq) ASSERT_FALSE(frames.push(wallFrame("a", seq, true)));
     // Tracking runs ahead of the held integration by a bounded number of frames.
-    ASSERT_TRUE(waitFor([&] { return loop.framesAwaitingIntegration() == 2; }));
+    ASSERT_TRUE(eventually([&] { return loop.framesAwaitingIntegration() == 2; }));
     ASSERT_TRUE(held.release());
   }
-  ASSERT_TRUE(waitFor([&] { return loop.idle() && state.frames_integrated.load() == kFrames; }));
+  ASSERT_TRUE(eventually([&] { return loop.idle() && state.frames_integrated.load() == kFrames; }));
   loop.stop();
   EXPECT_EQ(state.frames_skipped.load(), 0u);
   EXPECT_EQ(log.count.load(), kFrames);
@@ -239,10 +232,10 @@ TEST(FramePipeline, APosedFrameOfAMapReplacedSinceIsCountedNotIntegrated) {
   });
   started.get_future().wait();
   ASSERT_FALSE(frames.push(wallFrame("a", 1, true)));
-  ASSERT_TRUE(waitFor([&] { return log.count.load() == 1; }));
+  ASSERT_TRUE(eventually([&] { return log.count.load() == 1; }));
   release.set_value();
   ASSERT_TRUE(reset.get().ok());
-  ASSERT_TRUE(waitFor([&] { return loop.idle(); }));
+  ASSERT_TRUE(eventually([&] { return loop.idle(); }));
   loop.stop();
   EXPECT_EQ(state.frames_integrated.load(), 0u);
   EXPECT_EQ(state.dropped.get(reason::kMapReplaced, "a"), 1u);
@@ -262,7 +255,7 @@ TEST(FramePipeline, OnlyOneCameraDefinesTheWorldOfAnEmptyMap) {
   ASSERT_FALSE(frames.push(wallFrame("a", 1, false)));
   ASSERT_FALSE(frames.push(wallFrame("b", 1, false)));
   loop.start();
-  ASSERT_TRUE(waitFor([&] { return log.count.load() == 2 && loop.idle(); }));
+  ASSERT_TRUE(eventually([&] { return log.count.load() == 2 && loop.idle(); }));
   loop.stop();
   EXPECT_EQ(state.frames_integrated.load(), 1u);
   EXPECT_EQ(state.frames_lost.load(), 1u);

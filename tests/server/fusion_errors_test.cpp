@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include "eventually.hpp"
 #include "fusion_loop.hpp"
 #include "mapper.hpp"
 #include "semfuse/wire/reply_status.hpp"
@@ -20,16 +21,10 @@
 using namespace semfuse;
 using namespace semfuse::server;
 using namespace semfuse::server::wall_scene;
+using semfuse::testing::eventually;
 using namespace std::chrono_literals;
 
 namespace {
-
-// Waits for a condition; the bound only ends a test that would otherwise hang.
-template <class Condition>
-bool eventually(Condition condition) {
-  for (int i = 0; i < 6000 && !condition(); ++i) std::this_thread::sleep_for(5ms);
-  return condition();
-}
 
 void waitIdle(const FusionLoop& loop) {
   ASSERT_TRUE(eventually([&] { return loop.idle(); }));

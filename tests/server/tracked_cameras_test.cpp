@@ -16,6 +16,7 @@
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
 
+#include "eventually.hpp"
 #include "semfuse/synthetic/synthetic_sequence.hpp"
 #include "semfuse/wire/frame_codec.hpp"
 #include "server_harness.hpp"
@@ -82,14 +83,19 @@ class TrackedCameras : public ::testing::Test {
 TEST_F(TrackedCameras, ASecondCameraWithoutPoseJoinsTheMapAndTheTrajectoryIsRecorded) {
   const dds_domainid_t domain = serverTestDomain();
   ServerHarness h(domain);
-  h.startServer({"--legend", "synthetic", "--voxel-size", std::to_string(kTrackedMapVoxel), "--truncation",
-                 std::to_string(4 * kTrackedMapVoxel), "--autosave-period", "0", "--queue-per-camera", "64",
-                 "--max-queue-wait", "0"});
+  // The recorder's reader exists before the server does (it writes the file's header once it
+  // has), so the server's pose writer discovers it while starting, as it does the harness's: the
+  // poses topic is volatile and a reader matched late would miss the first poses.
   const std::filesystem::path trajectory = dir_ / "poses.csv";
   ChildProcess recorder({SEMFUSE_QUERY_EXE, "--domain-id", std::to_string(domain), "--dds-profile", loopbackProfile(),
                          "--log-level", "warn", "poses", "--out", trajectory.string(), "--format", "csv",
                          "--include-lost"});
-  std::this_thread::sleep_for(3s);  // the recorder's reader is discovered (volatile topic)
+  ASSERT_TRUE(eventually([&] {
+    return std::filesystem::exists(trajectory) && std::filesystem::file_size(trajectory) > 0;
+  })) << "the pose recorder did not start";
+  h.startServer({"--legend", "synthetic", "--voxel-size", std::to_string(kTrackedMapVoxel), "--truncation",
+                 std::to_string(4 * kTrackedMapVoxel), "--autosave-period", "0", "--queue-per-camera", "64",
+                 "--max-queue-wait", "0"});
 
   // Camera a maps 60 frames of the orbit from nothing (its first frame defines the world frame);
   // camera b then sees frames 20..49 of the same orbit, which a's keyframes show.
