@@ -1,7 +1,8 @@
-// The server's CPU priorities (thread_priority.hpp): a query thread runs kQueryNice below the
-// thread that started the process, once however often it asks, and the TBB workers started
-// beforehand keep the main thread's priority when they help a query thread. Its own program: TBB's
-// workers are started once per process.
+// The server's CPU priorities (thread_priority.hpp): the main thread (and the pose threads it
+// starts) keep the process's priority, a map thread runs kMapNice below it and a query thread
+// kQueryNice below it, however often they ask, and the TBB workers started beforehand run at the
+// map's priority also when they help a query thread. Its own program: TBB's workers are started
+// once per process.
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -21,10 +22,25 @@ namespace {
 
 int niceOf(pid_t thread) { return getpriority(PRIO_PROCESS, static_cast<id_t>(thread)); }
 
-TEST(ThreadPriority, QueryThreadsRunBelowTheWorkersStartedFromMain) {
+TEST(ThreadPriority, PoseThenMapThenQueryThreads) {
   const pid_t main_thread = gettid();
   const int base = niceOf(main_thread);
   startTbbWorkers();
+  int fusion_nice = 0, lowered_twice_nice = 0;
+  std::thread fusion([&] {
+    lowerToMapPriority();
+    fusion_nice = niceOf(gettid());
+  });
+  fusion.join();
+  EXPECT_EQ(fusion_nice, std::min(base + kMapNice, 19));
+  std::thread lowered_twice([&] {
+    lowerToQueryPriority();
+    lowerToMapPriority();  // never raises it again
+    lowered_twice_nice = niceOf(gettid());
+  });
+  lowered_twice.join();
+  EXPECT_EQ(lowered_twice_nice, std::min(base + kQueryNice, 19));
+
   int query_nice = 0, helper_nice = 0;
   bool helped = false;
   std::thread query([&] {
@@ -49,7 +65,7 @@ TEST(ThreadPriority, QueryThreadsRunBelowTheWorkersStartedFromMain) {
   EXPECT_EQ(niceOf(main_thread), base);
   if (tbb::this_task_arena::max_concurrency() < 2) GTEST_SKIP() << "TBB has no worker thread here";
   ASSERT_TRUE(helped);
-  EXPECT_EQ(helper_nice, base);
+  EXPECT_EQ(helper_nice, std::min(base + kMapNice, 19));
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 
 #include "semfuse/core/thread_name.hpp"
 #include "tbb_worker_names.hpp"
+#include "thread_priority.hpp"
 
 namespace semfuse::server {
 namespace {
@@ -34,6 +35,7 @@ void FusionLoop::start() {
   running_ = true;
   thread_ = std::thread([this] {
     setCurrentThreadName("sf-fusion");
+    lowerToMapPriority();  // poses first (thread_priority.hpp)
     nameTbbWorkers();
     run();
   });

@@ -67,8 +67,8 @@ FusionServer::FusionServer(ServerConfig config)
       pose_writer_(pose_topic_, dds::qos::poses()),
       status_writer_(status_topic_, dds::qos::status()),
       legend_writer_(legend_topic_, dds::qos::legend()) {
-  // TBB's workers run the fusion's parallel work: they start here, at the main thread's priority,
-  // before the query threads that run below it exist (thread_priority.hpp).
+  // TBB's workers run the fusion's parallel work: they start here, at the map's priority, before
+  // the query threads that run below it exist (thread_priority.hpp).
   startTbbWorkers();
   mapper_ = std::make_unique<Mapper>(mapperOptions(config_, legend_));
 
