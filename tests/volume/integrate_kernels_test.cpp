@@ -192,5 +192,27 @@ TEST(IntegrationKernel, ScalarIsAlwaysAvailableAndSelectable) {
   EXPECT_EQ(setIntegrationKernel(IntegrationKernel::kAvx2), integrationKernelAvailable(IntegrationKernel::kAvx2));
 }
 
+// A frame integrated in batches, with a pause between them, gives the volume and statistics of one
+// integrated at once; the pause comes once between each two batches of kLeavesPerBatch leaves.
+TEST(IntegrationBatches, PausesBetweenBatchesChangeNothing) {
+  VolumeParams params;
+  const std::vector<TestFrame> frames = makeSequence(6, 7, {80, 60});
+  const PinholeIntrinsics k = smallCamera();
+  KernelRun whole{LabeledVolume(params), {}}, batched{LabeledVolume(params), {}};
+  std::size_t pauses = 0, expected_pauses = 0;
+  for (const TestFrame& f : frames) {
+    auto at_once = integrate(whole.volume, f.depth, f.color, f.labels, f.confidence, k, f.pose);
+    auto in_batches = integrate(batched.volume, f.depth, f.color, f.labels, f.confidence, k, f.pose, [&] { ++pauses; });
+    ASSERT_TRUE(at_once.ok() && in_batches.ok());
+    whole.stats.push_back(at_once.value());
+    batched.stats.push_back(in_batches.value());
+    const std::size_t leaves = in_batches.value().leaves_touched;
+    expected_pauses += leaves == 0 ? 0 : (leaves - 1) / kLeavesPerBatch;
+  }
+  ASSERT_GT(expected_pauses, 0u) << "the frames must touch more than one batch of leaves";
+  EXPECT_EQ(pauses, expected_pauses);
+  expectSameRuns(whole, batched);
+}
+
 }  // namespace
 }  // namespace semfuse::volume

@@ -47,8 +47,9 @@ PoseState poseStateOf(tracking::TrackingStatus status) {
 }  // namespace
 
 namespace {
-// The map as the tracker reads it: under the shared lock for each alignment only, so that the
-// rest of tracking (pyramids, image alignment, keypoints) leaves the map to the fusion thread.
+// The map as the tracker reads it: held for each alignment only, ahead of a waiting writer (and
+// between an integration's batches), so that a pose never waits for a query or a whole frame, and
+// the rest of tracking (pyramids, image alignment, keypoints) leaves the map to the fusion thread.
 class LockedMapField final : public tracking::SdfField {
  public:
   // truncation: the server's, which a load keeps (Mapper::load refuses a map with another).
@@ -56,7 +57,7 @@ class LockedMapField final : public tracking::SdfField {
       : field_(volume), mutex_(mutex), truncation_(truncation) {}
   float truncation() const override { return truncation_; }
   std::unique_ptr<tracking::SdfSampler> makeSampler() const override { return field_.makeSampler(); }
-  void beginReading() const override { mutex_.lock_shared(); }
+  void beginReading() const override { mutex_.lock_shared_ahead(); }
   void endReading() const override { mutex_.unlock_shared(); }
 
  private:
@@ -127,7 +128,8 @@ Result<volume::IntegrationStats> Mapper::integrate(const PosedFrame& posed, cons
   Result<volume::IntegrationStats> stats = volume::IntegrationStats{};
   {
     std::unique_lock lock(mutex_);
-    stats = volume::integrate(volume_, posed.frame, segmentation);
+    // Tracking reads between batches: a pose waits for a part of the frame, not all of it.
+    stats = volume::integrate(volume_, posed.frame, segmentation, [this] { mutex_.admitReadersAhead(); });
     if (stats.ok()) ++revision_;
     frames_integrated_ = volume_.framesIntegrated();
     // The frame passed the same checks in integrate(): this cannot fail on its input.

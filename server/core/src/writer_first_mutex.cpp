@@ -1,17 +1,11 @@
 #include "writer_first_mutex.hpp"
 
 #include <algorithm>
-#include <cerrno>
-#include <system_error>
 #include <utility>
 #include <vector>
 
 namespace semfuse::server {
 namespace {
-
-void check(int error, const char* what) {
-  if (error != 0) throw std::system_error(error, std::generic_category(), what);
-}
 
 // The shared holds of the calling thread: which mutex, how many times (rarely more than one).
 std::vector<std::pair<const WriterFirstMutex*, int>>& sharedHolds() {
@@ -33,35 +27,66 @@ int* heldShared(const WriterFirstMutex* mutex) {
 
 }  // namespace
 
-WriterFirstMutex::WriterFirstMutex() {
-  pthread_rwlockattr_t attributes;
-  check(pthread_rwlockattr_init(&attributes), "pthread_rwlockattr_init");
-#ifdef __GLIBC__
-  // The only kind under which a waiting writer blocks new readers (glibc's default prefers them).
-  check(pthread_rwlockattr_setkind_np(&attributes, PTHREAD_RWLOCK_PREFER_WRITER_NONRECURSIVE_NP),
-        "pthread_rwlockattr_setkind_np");
-#endif
-  const int error = pthread_rwlock_init(&lock_, &attributes);
-  pthread_rwlockattr_destroy(&attributes);
-  check(error, "pthread_rwlock_init");
+void WriterFirstMutex::lock() {
+  std::unique_lock state(state_mutex_);
+  if (writers_waiting_++ == 0) ahead_slots_ = kAheadPassesPerWait;
+  writer_may_enter_.wait(state, [this] { return !writing_ && !admitting_ && readers_ == 0; });
+  if (--writers_waiting_ == 0) ahead_slots_ = 0;
+  writing_ = true;
 }
 
-WriterFirstMutex::~WriterFirstMutex() { pthread_rwlock_destroy(&lock_); }
+bool WriterFirstMutex::try_lock() {
+  std::lock_guard state(state_mutex_);
+  if (writing_ || admitting_ || readers_ > 0) return false;
+  writing_ = true;
+  return true;
+}
 
-void WriterFirstMutex::lock() { check(pthread_rwlock_wrlock(&lock_), "pthread_rwlock_wrlock"); }
-bool WriterFirstMutex::try_lock() { return pthread_rwlock_trywrlock(&lock_) == 0; }
-void WriterFirstMutex::unlock() { pthread_rwlock_unlock(&lock_); }
+void WriterFirstMutex::unlock() {
+  {
+    std::lock_guard state(state_mutex_);
+    writing_ = false;
+  }
+  // Readers who go ahead may enter now; the writers are woken too and wait for them.
+  readers_may_enter_.notify_all();
+  writer_may_enter_.notify_all();
+}
 
-void WriterFirstMutex::lock_shared() {
+void WriterFirstMutex::admitReadersAhead() {
+  std::unique_lock state(state_mutex_);
+  if (readers_ahead_waiting_ == 0) return;
+  writing_ = false;
+  admitting_ = true;  // keeps other writers out, and (with writers_waiting_) other readers
+  ++writers_waiting_;
+  const int slots_before = ahead_slots_;
+  ahead_slots_ = readers_ahead_waiting_;
+  readers_may_enter_.notify_all();
+  writer_may_enter_.wait(state, [this] { return (ahead_slots_ == 0 || readers_ahead_waiting_ == 0) && readers_ == 0; });
+  --writers_waiting_;
+  ahead_slots_ = writers_waiting_ > 0 ? slots_before : 0;
+  admitting_ = false;
+  writing_ = true;
+}
+
+void WriterFirstMutex::lock_shared() { lockShared(false); }
+void WriterFirstMutex::lock_shared_ahead() { lockShared(true); }
+
+void WriterFirstMutex::lockShared(bool ahead_of_waiting_writers) {
   if (int* count = heldShared(this)) {
     ++*count;
     return;
   }
-  int error;
-  // EAGAIN: the maximum number of readers; another one leaves soon.
-  while ((error = pthread_rwlock_rdlock(&lock_)) == EAGAIN) {
+  {
+    std::unique_lock state(state_mutex_);
+    if (ahead_of_waiting_writers) ++readers_ahead_waiting_;
+    readers_may_enter_.wait(
+        state, [&] { return !writing_ && (writers_waiting_ == 0 || (ahead_of_waiting_writers && ahead_slots_ > 0)); });
+    if (ahead_of_waiting_writers) {
+      --readers_ahead_waiting_;
+      if (writers_waiting_ > 0) --ahead_slots_;
+    }
+    ++readers_;
   }
-  check(error, "pthread_rwlock_rdlock");
   sharedHolds().emplace_back(this, 1);
 }
 
@@ -70,7 +95,11 @@ bool WriterFirstMutex::try_lock_shared() {
     ++*count;
     return true;
   }
-  if (pthread_rwlock_tryrdlock(&lock_) != 0) return false;
+  {
+    std::lock_guard state(state_mutex_);
+    if (writing_ || writers_waiting_ > 0) return false;
+    ++readers_;
+  }
   sharedHolds().emplace_back(this, 1);
   return true;
 }
@@ -80,7 +109,12 @@ void WriterFirstMutex::unlock_shared() {
   if (it == sharedHolds().end()) return;  // not held by this thread: nothing of ours to release
   if (--it->second > 0) return;
   sharedHolds().erase(it);
-  pthread_rwlock_unlock(&lock_);
+  bool last_reader = false;
+  {
+    std::lock_guard state(state_mutex_);
+    last_reader = --readers_ == 0;
+  }
+  if (last_reader) writer_may_enter_.notify_all();
 }
 
 }  // namespace semfuse::server

@@ -28,24 +28,30 @@ std::atomic<IntegrationKernel> g_kernel{
 
 template <bool kGeometry, bool kColor, bool kLabels>
 void updateLeaves(const std::vector<LeafPair>& leaves, const FrameView& frame, const KernelConfig& config,
-                  IntegrationStats& stats) {
+                  const BetweenBatches& between_batches, IntegrationStats& stats) {
   // The kernel is chosen per frame, not per leaf: one branch per call instead of per leaf.
   const bool wide =
       g_kernel.load(std::memory_order_relaxed) == IntegrationKernel::kAvx2 && detail::avx2KernelSupported(frame);
   const auto update_leaf = wide ? &detail::updateLeafAvx2<kGeometry, kColor, kLabels>
                                 : &detail::updateLeafScalar<kGeometry, kColor, kLabels>;
   std::atomic<std::size_t> updated{0}, labeled{0};
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 16),
-                    [&](const tbb::blocked_range<std::size_t>& range) {
-                      KernelCounts local;
-                      for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                        const KernelCounts c = update_leaf(leaves[i], frame, config);
-                        local.updated += c.updated;
-                        local.labeled += c.labeled;
-                      }
-                      updated += local.updated;
-                      labeled += local.labeled;
-                    });
+  // One batch at once when nobody waits between batches: the pauses cost nothing then.
+  const std::size_t batch = between_batches ? kLeavesPerBatch : std::max<std::size_t>(leaves.size(), 1);
+  for (std::size_t first = 0; first < leaves.size(); first += batch) {
+    if (first > 0) between_batches();
+    const std::size_t last = std::min(leaves.size(), first + batch);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(first, last, 16),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        KernelCounts local;
+                        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                          const KernelCounts c = update_leaf(leaves[i], frame, config);
+                          local.updated += c.updated;
+                          local.labeled += c.labeled;
+                        }
+                        updated += local.updated;
+                        labeled += local.labeled;
+                      });
+  }
   stats.voxels_updated = updated;
   stats.voxels_labeled = labeled;
 }
@@ -77,7 +83,8 @@ KernelConfig kernelConfig(const VolumeParams& params, const IgnoredLabels* ignor
 
 Result<IntegrationStats> integrate(LabeledVolume& volume, const cv::Mat& depth, const cv::Mat& color,
                                    const cv::Mat& labels, const cv::Mat& confidence,
-                                   const PinholeIntrinsics& intrinsics, const Pose& camera_to_world) {
+                                   const PinholeIntrinsics& intrinsics, const Pose& camera_to_world,
+                                   const BetweenBatches& between_batches) {
   const VolumeParams& params = volume.params();
   auto view = detail::makeFrameView(params, depth, color, labels, confidence, intrinsics, camera_to_world);
   if (!view) return makeError(view.error());
@@ -113,23 +120,25 @@ Result<IntegrationStats> integrate(LabeledVolume& volume, const cv::Mat& depth, 
   const KernelConfig config = kernelConfig(params, ignored.get());
   const bool with_color = color_grid && frame.color;
   const bool with_labels = frame.labels != nullptr;
-  if (with_color && with_labels) updateLeaves<true, true, true>(leaves, frame, config, stats);
-  else if (with_color) updateLeaves<true, true, false>(leaves, frame, config, stats);
-  else if (with_labels) updateLeaves<true, false, true>(leaves, frame, config, stats);
-  else updateLeaves<true, false, false>(leaves, frame, config, stats);
+  if (with_color && with_labels) updateLeaves<true, true, true>(leaves, frame, config, between_batches, stats);
+  else if (with_color) updateLeaves<true, true, false>(leaves, frame, config, between_batches, stats);
+  else if (with_labels) updateLeaves<true, false, true>(leaves, frame, config, between_batches, stats);
+  else updateLeaves<true, false, false>(leaves, frame, config, between_batches, stats);
 
   volume.markChanged(origins);
   volume.setFramesIntegrated(volume.framesIntegrated() + 1);
   return stats;
 }
 
-Result<IntegrationStats> integrate(LabeledVolume& volume, const Frame& frame, const Segmentation* segmentation) {
+Result<IntegrationStats> integrate(LabeledVolume& volume, const Frame& frame, const Segmentation* segmentation,
+                                   const BetweenBatches& between_batches) {
   if (!frame.camera_to_world)
     return makeError("frame " + std::to_string(frame.seq) + " carries no camera_to_world pose");
   if (segmentation)
     return integrate(volume, frame.depth, frame.color, segmentation->labels, segmentation->confidence, frame.intrinsics,
-                     *frame.camera_to_world);
-  return integrate(volume, frame.depth, frame.color, cv::Mat(), cv::Mat(), frame.intrinsics, *frame.camera_to_world);
+                     *frame.camera_to_world, between_batches);
+  return integrate(volume, frame.depth, frame.color, cv::Mat(), cv::Mat(), frame.intrinsics, *frame.camera_to_world,
+                   between_batches);
 }
 
 Result<IntegrationStats> integrateLabels(LabeledVolume& volume, const cv::Mat& depth, const cv::Mat& labels,
@@ -159,7 +168,7 @@ Result<IntegrationStats> integrateLabels(LabeledVolume& volume, const cv::Mat& d
     }
 
   const std::unique_ptr<IgnoredLabels> ignored = detail::ignoredLabels(params);
-  updateLeaves<false, false, true>(leaves, frame, kernelConfig(params, ignored.get()), stats);
+  updateLeaves<false, false, true>(leaves, frame, kernelConfig(params, ignored.get()), {}, stats);
   volume.markChanged(labeled);
   return stats;
 }

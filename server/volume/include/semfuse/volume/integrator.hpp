@@ -12,7 +12,12 @@
 // and confidence CV_32FC1 of the labels' size, which may be smaller than the depth (nearest-
 // neighbour upsampled); an empty confidence counts every labeled pixel with confidence 1.
 // Every input is checked first; a bad one gives an error naming it and the volume is unchanged.
+//
+// `between_batches`, when given, is called from the calling thread between batches of leaves
+// (kLeavesPerBatch each), the volume's topology fixed and every voxel whole: a caller that holds
+// the map exclusively may let readers look there (the server lets tracking in); none may write.
 #include <cstddef>
+#include <functional>
 
 #include <opencv2/core/mat.hpp>
 
@@ -30,9 +35,13 @@ struct IntegrationStats {
   std::size_t voxels_labeled = 0;    // voxels where Algorithm 1 ran (label not 0/background)
 };
 
+using BetweenBatches = std::function<void()>;
+inline constexpr std::size_t kLeavesPerBatch = 512;
+
 Result<IntegrationStats> integrate(LabeledVolume& volume, const cv::Mat& depth, const cv::Mat& color,
                                    const cv::Mat& labels, const cv::Mat& confidence,
-                                   const PinholeIntrinsics& intrinsics, const Pose& camera_to_world);
+                                   const PinholeIntrinsics& intrinsics, const Pose& camera_to_world,
+                                   const BetweenBatches& between_batches = {});
 
 // Depth (+ colour) only.
 inline Result<IntegrationStats> integrate(LabeledVolume& volume, const cv::Mat& depth, const cv::Mat& color,
@@ -42,7 +51,8 @@ inline Result<IntegrationStats> integrate(LabeledVolume& volume, const cv::Mat& 
 
 // A decoded frame (which must carry its camera_to_world pose), optionally with its segmentation.
 Result<IntegrationStats> integrate(LabeledVolume& volume, const Frame& frame,
-                                   const Segmentation* segmentation = nullptr);
+                                   const Segmentation* segmentation = nullptr,
+                                   const BetweenBatches& between_batches = {});
 
 // Label evidence only, for a segmentation that arrives after its frame was integrated: the
 // voxels that frame saw near the surface, with that frame's depth and pose. Allocates nothing.
