@@ -189,6 +189,36 @@ TEST(FramePipeline, ASegmentationOfASkippedFrameThatComesLaterIsStillFused) {
   EXPECT_EQ(state.rejected.snapshot().size(), 0u);
 }
 
+TEST(FramePipeline, LabelPassesBeyondTheQueueAreCountedAsBehind) {
+  Mapper mapper(wallMapOptions());
+  FrameQueue frames(32);
+  ServerState state;
+  PoseLog log;
+  FusionLoop loop(mapper, frames, state, FusionLimits{}, log.callback());
+  loop.start();
+  constexpr uint64_t kFrames = 20;
+  {
+    // Twenty frames and their labels reach the fusion thread in one turn: the newest frame is
+    // integrated with its labels, the other nineteen are skipped and their labels queue.
+    HeldFusion held(loop);
+    for (uint64_t seq = 1; seq <= kFrames; ++seq) {
+      ASSERT_FALSE(frames.push(wallFrame("a", seq, true)));
+      loop.submitSegmentation(pipelineLabels("a", seq));
+    }
+    ASSERT_TRUE(eventually([&] { return loop.framesAwaitingIntegration() == kFrames; }));
+    ASSERT_TRUE(held.release());
+  }
+  ASSERT_TRUE(eventually([&] { return loop.idle(); }));
+  loop.stop();
+  EXPECT_EQ(state.frames_integrated.load(), 1u);
+  EXPECT_EQ(state.segmentations_integrated.load(), 1u + 16u);
+  const auto dropped = state.dropped.snapshot();
+  ASSERT_EQ(dropped.size(), 1u);
+  EXPECT_EQ(dropped.front().reason, reason::kLabelsBehind);
+  EXPECT_EQ(dropped.front().count, kFrames - 1 - 16);
+  EXPECT_EQ(loop.pendingSegmentations(), 0u);
+}
+
 TEST(FramePipeline, WithEveryFrameIntegratedNoneIsSkipped) {
   Mapper mapper(wallMapOptions());
   FrameQueue frames(16);

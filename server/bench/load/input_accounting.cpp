@@ -10,7 +10,7 @@ namespace {
 // segmentation (server/core/src/server_state.hpp).
 const std::set<std::string> kFrameDrops{"queue_full", "queue_stale", "sequence_gap", "tracking_lost", "map_replaced"};
 const std::set<std::string> kFrameRejections{"invalid_frame", "integration_failed"};
-const std::set<std::string> kSegmentationDrops{"frame_dropped", "pending_full", "segmentation_timeout",
+const std::set<std::string> kSegmentationDrops{"frame_dropped", "pending_full", "segmentation_timeout", "labels_behind",
                                                "unknown_frame"};
 const std::set<std::string> kSegmentationRejections{"unknown_frame", "size_mismatch", "invalid_segmentation",
                                                     "label_out_of_legend", "unknown_camera"};

@@ -15,6 +15,11 @@ namespace {
 // to keep the fusion thread fed while the tracker works on the next.
 constexpr size_t kEveryFrameAhead = 2;
 
+// Label passes that may wait for the fusion thread when frames come newest first: about a second
+// of them on a busy 2-core machine. Beyond it the oldest is dropped, so that a segmenter faster
+// than the map cannot take the integration's share of the thread.
+constexpr size_t kQueuedLabelPasses = 16;
+
 std::string frameName(const std::string& camera, uint64_t seq) { return camera + "/" + std::to_string(seq); }
 
 }  // namespace
@@ -95,7 +100,7 @@ bool FusionLoop::idle() const {
     std::lock_guard lock(inbox_mutex_);
     if (!inbox_.empty() || !tasks_.empty()) return false;
   }
-  return tracking_.idle() && integration_.idle() && !busy_.load();
+  return tracking_.idle() && integration_.idle() && label_passes_size_.load() == 0 && !busy_.load();
 }
 
 void FusionLoop::drain(std::chrono::milliseconds timeout) const {
@@ -116,13 +121,19 @@ void FusionLoop::run() {
     }
     for (auto& segmentation : arrived) applySegmentation(std::move(segmentation));
 
-    std::vector<PosedFrame> frames = integration_.take(20ms);
+    // Label passes to run: look for frames without waiting for them.
+    std::vector<PosedFrame> frames = integration_.take(label_passes_.empty() ? 20ms : 0ms);
+    std::chrono::steady_clock::duration integrating{0};
     if (!frames.empty()) {
       busy_ = true;
+      const auto start = std::chrono::steady_clock::now();
       processFrames(std::move(frames));
+      integrating = std::chrono::steady_clock::now() - start;
     }
+    runLabelPasses(integrating);
     expirePending();
-    pending_size_ = pending_.size();
+    pending_size_ = pending_.size() + label_passes_.size();
+    label_passes_size_ = label_passes_.size();
     history_size_ = history_.size();
     busy_ = false;
     integration_.finished();
@@ -147,6 +158,8 @@ void FusionLoop::runTasks() {
     history_.clear();
     for (auto& waiting : pending_.expire(PendingSegmentations::Clock::time_point::max()))
       state_.dropped.add(reason::kUnknownFrame, waiting.camera_id);
+    for (const auto& queued : label_passes_) state_.dropped.add(reason::kUnknownFrame, queued.camera_id);
+    label_passes_.clear();
   }
 }
 
@@ -213,12 +226,12 @@ void FusionLoop::integrateFrame(const PosedFrame& posed, std::vector<Segmentatio
   state_.frameIntegrated(frame.camera_id);
   history_.add({frame.camera_id, frame.seq, true, frame.intrinsics, frame.depth, *frame.camera_to_world});
   const HistoryEntry* stored = history_.find(frame.camera_id, frame.seq);
-  for (const auto& segmentation : waiting) {
+  for (auto& segmentation : waiting) {
     if (&segmentation == same_pass) {
       ++state_.segmentations_integrated;
       state_.touch();
     } else if (stored) {
-      integrateLabels(*stored, segmentation);
+      queueLabelPass(std::move(segmentation));
     } else {
       state_.dropped.add(reason::kUnknownFrame, segmentation.camera_id);
     }
@@ -231,8 +244,8 @@ void FusionLoop::keepFrame(const PosedFrame& posed, std::vector<Segmentation> wa
   history_.add({frame.camera_id, frame.seq, has_pose, frame.intrinsics, has_pose ? frame.depth : cv::Mat(),
                 has_pose ? *frame.camera_to_world : Pose::Identity()});
   const HistoryEntry* stored = history_.find(frame.camera_id, frame.seq);
-  for (const auto& segmentation : waiting) {
-    if (stored && stored->posed) integrateLabels(*stored, segmentation);
+  for (auto& segmentation : waiting) {
+    if (stored && stored->posed) queueLabelPass(std::move(segmentation));
     else state_.dropped.add(reason::kUnknownFrame, segmentation.camera_id);
   }
 }
@@ -246,7 +259,7 @@ void FusionLoop::applySegmentation(Segmentation segmentation) {
                         " has no pose (tracking lost or frame rejected): its labels have no geometry");
       return;
     }
-    integrateLabels(*entry, segmentation);
+    queueLabelPass(std::move(segmentation));
     return;
   }
   // Not in the history: either the frame is still on its way (wait for it), or it is gone.
@@ -260,6 +273,32 @@ void FusionLoop::applySegmentation(Segmentation segmentation) {
   for (auto& evicted : pending_.add(std::move(segmentation))) {
     state_.dropped.add(reason::kPendingFull, evicted.camera_id);
     state_.touch();
+  }
+}
+
+void FusionLoop::queueLabelPass(Segmentation segmentation) {
+  label_passes_.push_back(std::move(segmentation));
+  if (integration_.everyFrame() || label_passes_.size() <= kQueuedLabelPasses) return;
+  state_.dropped.add(reason::kLabelsBehind, label_passes_.front().camera_id);
+  state_.touch();
+  label_passes_.pop_front();
+}
+
+void FusionLoop::runLabelPasses(std::chrono::steady_clock::duration integrating) {
+  // While frames wait, label passes get the thread for as long as this turn's integration had it
+  // (one pass at least): the map keeps growing however fast segmentations come.
+  const auto start = std::chrono::steady_clock::now();
+  while (!label_passes_.empty()) {
+    const Segmentation segmentation = std::move(label_passes_.front());
+    label_passes_.pop_front();
+    if (const HistoryEntry* entry = history_.find(segmentation.camera_id, segmentation.frame_seq))
+      integrateLabels(*entry, segmentation);
+    else
+      state_.reject(reason::kUnknownFrame, segmentation.camera_id, "segmentation " + segmentation.segmenter_id,
+                    "frame " + frameName(segmentation.camera_id, segmentation.frame_seq) +
+                        " left the frame history before its label pass");
+    const bool frames_wait = !integration_.everyFrame() && integration_.size() > 0;
+    if (frames_wait && std::chrono::steady_clock::now() - start >= integrating) break;
   }
 }
 

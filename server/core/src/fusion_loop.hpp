@@ -6,10 +6,12 @@
 // the newest posed one is integrated, the older ones are skipped and kept in the frame history
 // (their segmentations still get a label pass), lost ones are kept there as such. It applies the
 // segmentations that were waiting for those frames, counts those waiting for an earlier frame of
-// that camera (dropped before tracking) and expires the ones that waited too long. Every input
-// ends integrated or counted under a reason.
+// that camera (dropped before tracking) and expires the ones that waited too long. Label passes
+// queue and get as much of the thread as the turn's integration while frames wait, so that a
+// fast segmenter cannot starve the map. Every input ends integrated or counted under a reason.
 #include <atomic>
 #include <chrono>
+#include <deque>
 #include <functional>
 #include <future>
 #include <mutex>
@@ -71,6 +73,9 @@ class FusionLoop {
   // A frame kept in the history without being integrated: posed and skipped, or without a pose.
   void keepFrame(const PosedFrame& frame, std::vector<Segmentation> waiting);
   void applySegmentation(Segmentation segmentation);
+  // A segmentation of a posed frame in the history, fused by a label pass of its own.
+  void queueLabelPass(Segmentation segmentation);
+  void runLabelPasses(std::chrono::steady_clock::duration integrating);
   void integrateLabels(const HistoryEntry& entry, const Segmentation& segmentation);
   void expirePending();
 
@@ -79,8 +84,10 @@ class FusionLoop {
   IntegrationQueue integration_;
   TrackingStage tracking_;
 
-  FrameHistory history_;          // fusion thread only
-  PendingSegmentations pending_;  // fusion thread only
+  FrameHistory history_;                   // fusion thread only
+  PendingSegmentations pending_;           // fusion thread only
+  std::deque<Segmentation> label_passes_;  // fusion thread only, oldest first
+  std::atomic<size_t> label_passes_size_{0};
   std::atomic<size_t> history_size_{0};
   std::atomic<size_t> pending_size_{0};
   std::atomic<bool> busy_{false};

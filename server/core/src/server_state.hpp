@@ -29,6 +29,9 @@ inline constexpr const char* kSegmentationTimeout = "segmentation_timeout";  // 
 // A waiting segmentation whose frame will not come: a later frame of its camera was fused first,
 // so its own was dropped before fusion (queue_full, queue_stale) or never received (sequence_gap).
 inline constexpr const char* kFrameDropped = "frame_dropped";
+// A segmentation whose label pass was passed over: more of them queued than the fusion thread
+// runs beside its integrations (frames newest first only).
+inline constexpr const char* kLabelsBehind = "labels_behind";
 inline constexpr const char* kTrackingLost = "tracking_lost";  // frame not integrated
 // A posed frame tracked against a map that a load or reset then replaced: not integrated.
 inline constexpr const char* kMapReplaced = "map_replaced";
