@@ -3,7 +3,7 @@
 // screenshot and what the page shows (counters, legend, where given world points land on screen)
 // as "key value" lines for viewer_page_test.cpp. Needs Node's WebSocket (--experimental-websocket).
 //   node --experimental-websocket page_snapshot.mjs --chromium PATH --url URL --png OUT.png
-//        --facts OUT.txt --blocks N --frames N [--timeout-s S] [--point NAME X Y Z]...
+//        --facts OUT.txt --blocks N --frames N [--timeout-s S] [--ready FILE] [--point NAME X Y Z]...
 import { spawn } from 'node:child_process';
 import { mkdtempSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
@@ -83,6 +83,14 @@ const facts = () => evaluate(`(() => {
     legend: [...document.querySelectorAll('#legend tr')].map((r) => [...r.cells].map((c) => c.textContent.trim()).join(' ')),
   };
 })()`);
+
+// With --ready FILE: the file is written once the page's websocket is connected, so that the
+// test can start the camera then and the page sees the map grow from its first frames.
+if (args.ready) {
+  while ((await facts())?.connection !== 'connected') await sleep(100);
+  writeFileSync(args.ready, 'connected\n');
+  log('page connected');
+}
 
 const framesSeen = [];
 let last;
