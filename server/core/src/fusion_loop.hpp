@@ -54,6 +54,7 @@ class FusionLoop {
   // the thread did not run it within `timeout`, and at once when the loop no longer takes tasks.
   Status runOnFusionThread(std::function<Status()> task, std::chrono::milliseconds timeout);
 
+  // Segmentations waiting for their frame or for their label pass (the status's pending_segmentations).
   size_t pendingSegmentations() const;
   size_t historyFrames() const;
   size_t trackingThreads() const { return tracking_.threads(); }
