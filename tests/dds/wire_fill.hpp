@@ -225,6 +225,8 @@ inline void fill(semfuse_msg_dds__ServerStatus_& m, Filler& f) {
   m.last_save_ok = true;
   m.last_save_age_s = f.f64();
   fillEach(m.stages, 2, f);
+  m.map_revision = f.u64();
+  m.distance_field_revision = f.u64();
 }
 inline void fill(semfuse_msg_dds__LabelEntry_& m, Filler& f) {
   m.id = f.u16();

@@ -4,8 +4,6 @@ x = 0 and box (6) right of it, fused by a server with --esdf. Distances are chec
 wall's analytic ones, within two of the field's voxels (4 cm on the default 1 cm map)."""
 from __future__ import annotations
 
-import time
-
 import numpy as np
 import pytest
 
@@ -29,23 +27,21 @@ def field_answers(client: semfuse.MapClient) -> list[np.ndarray]:
 def wall(tmp_path_factory):
     """A client of a server with a distance field over the wall map, once the field has caught up.
 
-    The field follows the map on a thread of its own: covering the free side is not enough, since
-    the labels of the last frames may still be on their way into it. Once the map is built, the
-    field's answers stop changing when it has applied everything."""
+    The field follows the map on a thread of its own: the status says when it has applied every
+    change (its revision equals the map's) after the last frame's labels are in."""
     server = Server(tmp_path_factory.mktemp("wall"), "--legend", "synthetic", "--autosave-period", "0", "--esdf")
     build_wall(server, range(10))
+    status = server.wait_until(
+        lambda s: s.queued_frames == 0
+        and s.pending_segmentations == 0
+        and s.map_revision > 0
+        and s.distance_field_revision == s.map_revision,
+        timeout=60,
+    )
+    assert status.segmentations_integrated == 10
     client = semfuse.MapClient(domain_id=DOMAIN)
-    deadline = time.monotonic() + 30
-    previous = None
-    while True:
-        answers = field_answers(client)
-        complete = answers[0].all() and answers[2].all() and answers[4].all()
-        if complete and previous is not None and all(np.array_equal(a, b) for a, b in zip(answers, previous)):
-            break
-        if time.monotonic() > deadline:
-            pytest.fail(f"the distance field did not settle on the wall and its labels\n{server.output()}")
-        previous = answers if complete else None
-        time.sleep(0.5)
+    answers = field_answers(client)
+    assert answers[0].all() and answers[2].all() and answers[4].all(), answers
     yield client
     assert server.stop() == 0, server.output()
 

@@ -73,27 +73,21 @@ TEST(DistanceEndToEnd, ServesTheDistanceFieldAndPublishesTheOccupancyGrid) {
     ASSERT_TRUE(segmentation.ok());
     ASSERT_TRUE(h.segmentations().write(segmentation.value().msg()).ok());
   }
-  h.waitStatus([](const auto& s) { return s.segmentations_integrated == kRoomFrames; }, 30s);
+  // The field follows the map on its own thread (at query priority, slowest under load): wait
+  // until the map has taken every frame and label and the field has applied all of it.
+  const auto settled = h.waitStatus(
+      [](const auto& s) {
+        return s.segmentations_integrated == kRoomFrames && s.queued_frames == 0 && s.pending_segmentations == 0 &&
+               s.map_revision > 0 && s.distance_field_revision == s.map_revision;
+      },
+      60s);
+  ASSERT_EQ(settled->segmentations_integrated, static_cast<uint64_t>(kRoomFrames));
+  ASSERT_GT(settled->map_revision, 0u);
+  ASSERT_EQ(settled->distance_field_revision, settled->map_revision) << "the field never caught up with the map";
 
-  // The field follows the map on its own thread: wait until it reflects the last frame. Covering
-  // the point is not enough (the last frames' labels may still be on their way into the field);
-  // with the map built, the field's answers stop changing once it has applied everything.
   const Eigen::Vector3d above_table(0.0, 0.3, 1.0);
   const Eigen::Vector3d over_table(0.2, 0.1, 1.25);
-  client::CallResult<std::vector<client::DistanceSample>> distances = map.distances({above_table}, 10s);
-  bool was_complete = false;
-  std::pair<float, float> previous{0.0f, 0.0f};  // distance there, to the nearest table
-  for (int tries = 0; tries < 100 && distances; ++tries) {
-    auto nearest_table = map.semanticDistances({synthetic::labels::kTable}, {over_table}, 10s);
-    const bool complete = distances.value()[0].known && nearest_table && nearest_table.value()[0].found;
-    const std::pair<float, float> now{distances.value()[0].distance,
-                                      complete ? nearest_table.value()[0].distance : 0.0f};
-    if (complete && was_complete && previous == now) break;
-    was_complete = complete;
-    previous = now;
-    std::this_thread::sleep_for(300ms);
-    distances = map.distances({above_table}, 10s);
-  }
+  auto distances = map.distances({above_table}, 10s);
   ASSERT_TRUE(distances) << distances.error();
   ASSERT_TRUE(distances.value()[0].known);
   EXPECT_NEAR(distances.value()[0].distance, 0.25, 1.5 * kRoomVoxel);

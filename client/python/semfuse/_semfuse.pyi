@@ -216,6 +216,12 @@ class ServerStatus:
     @property
     def history_frames(self) -> int: ...
     @property
+    def map_revision(self) -> int:
+        """Raised by every change to the map."""
+    @property
+    def distance_field_revision(self) -> int:
+        """The map revision the distance field reflects (0 without --esdf)."""
+    @property
     def voxel_size(self) -> float: ...
     @property
     def truncation(self) -> float: ...

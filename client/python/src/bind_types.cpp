@@ -180,6 +180,9 @@ void bindStatus(py::module_& m) {
       .def_readonly("queued_frames", &ServerStatus::queued_frames)
       .def_readonly("pending_segmentations", &ServerStatus::pending_segmentations)
       .def_readonly("history_frames", &ServerStatus::history_frames)
+      .def_readonly("map_revision", &ServerStatus::map_revision, "Raised by every change to the map.")
+      .def_readonly("distance_field_revision", &ServerStatus::distance_field_revision,
+                    "The map revision the distance field reflects (0 without --esdf).")
       .def_readonly("voxel_size", &ServerStatus::voxel_size)
       .def_readonly("truncation", &ServerStatus::truncation)
       .def_readonly("allocated_voxels", &ServerStatus::allocated_voxels)

@@ -60,6 +60,11 @@ std::string statusTable(const client::ServerStatus& s) {
                      s.segmentations_integrated, s.pending_segmentations);
   out += fmt::format("  map            {} voxels in {} blocks, {:.1f} MiB, voxel {:.3f} m, truncation {:.3f} m\n",
                      s.allocated_voxels, s.allocated_blocks, s.map_bytes / 1048576.0, s.voxel_size, s.truncation);
+  if (s.distance_field_revision > 0)
+    out += fmt::format("  distance field {}\n", s.distance_field_revision >= s.map_revision
+                                                      ? std::string("current")
+                                                      : fmt::format("{} map revisions behind",
+                                                                    s.map_revision - s.distance_field_revision));
   out += fmt::format("  process        {:.1f} MiB resident, history {} frames\n", s.rss_bytes / 1048576.0,
                      s.history_frames);
   out += fmt::format("  map file       {} (last save {}, {:.0f} s ago)\n", s.map_file.empty() ? "-" : s.map_file,
@@ -137,6 +142,8 @@ std::string statusJson(const client::ServerStatus& s) {
       .field("queued_frames", s.queued_frames)
       .field("pending_segmentations", s.pending_segmentations)
       .field("history_frames", s.history_frames)
+      .field("map_revision", s.map_revision)
+      .field("distance_field_revision", s.distance_field_revision)
       .field("voxel_size", s.voxel_size)
       .field("truncation", s.truncation)
       .field("allocated_voxels", s.allocated_voxels)

@@ -99,6 +99,8 @@ void encodeServerStatus(const ServerStatus& s, Stamp stamp, semfuse_msg_dds__Ser
     t.p95_ms = a.p95_ms;
     t.max_ms = a.max_ms;
   }
+  out.map_revision = s.map_revision;
+  out.distance_field_revision = s.distance_field_revision;
 }
 
 Result<ServerStatus> decodeServerStatus(const semfuse_msg_dds__ServerStatus_& msg) {
@@ -167,6 +169,8 @@ Result<ServerStatus> decodeServerStatus(const semfuse_msg_dds__ServerStatus_& ms
     const auto& t = msg.stages._buffer[i];
     s.stages.push_back({stringOf(t.stage), t.count, t.p50_ms, t.p95_ms, t.max_ms});
   }
+  s.map_revision = msg.map_revision;
+  s.distance_field_revision = msg.distance_field_revision;
   return s;
 }
 

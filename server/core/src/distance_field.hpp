@@ -61,6 +61,8 @@ class DistanceField final : public DistanceSource {
   // Until the field reflects the map as of now (for tests and the bench); false on timeout.
   bool waitUntilCurrent(std::chrono::milliseconds timeout) const;
 
+  uint64_t revision() const { return revision_.load(); }  // the map revision the field reflects
+
   struct Stats {
     uint64_t updates = 0;
     double last_update_ms = 0.0;

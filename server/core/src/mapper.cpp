@@ -130,7 +130,6 @@ Result<volume::IntegrationStats> Mapper::integrate(const PosedFrame& posed, cons
     std::unique_lock lock(mutex_);
     // Tracking reads between batches: a pose waits for a part of the frame, not all of it.
     stats = volume::integrate(volume_, posed.frame, segmentation, [this] { mutex_.admitReadersAhead(); });
-    if (stats.ok()) ++revision_;
     frames_integrated_ = volume_.framesIntegrated();
     // The frame passed the same checks in integrate(): this cannot fail on its input.
     if (stats.ok() && options_.observe_free_space)
@@ -166,7 +165,6 @@ Result<volume::IntegrationStats> Mapper::integrateSegmentation(const HistoryEntr
   std::unique_lock lock(mutex_);
   auto stats = volume::integrateLabels(volume_, frame.depth, segmentation.labels, segmentation.confidence,
                                        frame.intrinsics, frame.camera_to_world);
-  if (stats.ok()) ++revision_;
   lock.unlock();
   if (stats.ok() && on_change_) on_change_();
   return stats;
@@ -200,7 +198,6 @@ Status Mapper::load(const std::filesystem::path& path) {
   volume_ = std::move(loaded.value().volume);
   tracker_.reset();  // tracking restarts from the poses the next frames carry
   frames_integrated_ = volume_.framesIntegrated();
-  ++revision_;
   ++epoch_;
   lock.unlock();
   firstFrameDone();
@@ -214,7 +211,6 @@ void Mapper::reset() {
     volume_.clear();
     tracker_.reset();
     frames_integrated_ = 0;
-    ++revision_;
     ++epoch_;
   }
   firstFrameDone();
@@ -225,7 +221,7 @@ std::shared_ptr<const volume::LabeledVolume> Mapper::snapshot() const {
   constexpr std::size_t kCopies = 2;
   std::lock_guard snapshot_lock(snapshot_mutex_);
   std::shared_lock lock(mutex_);
-  if (!copies_.empty() && snapshot_revision_ == revision_) return copies_.back();
+  if (!copies_.empty() && snapshot_revision_ == volume_.revision()) return copies_.back();
   // Only this list holds an idle copy, and only snapshot() hands copies out: no query can be
   // reading it while it changes.
   const auto idle =
@@ -241,7 +237,7 @@ std::shared_ptr<const volume::LabeledVolume> Mapper::snapshot() const {
   copies_.push_back(copy);
   // The oldest copy is still being read: its queries keep it alive until they end.
   if (copies_.size() > kCopies) copies_.erase(copies_.begin());
-  snapshot_revision_ = revision_;
+  snapshot_revision_ = volume_.revision();
   return copy;
 }
 
@@ -255,7 +251,7 @@ uint64_t Mapper::framesIntegrated() const { return frames_integrated_.load(); }
 
 uint64_t Mapper::revision() const {
   std::shared_lock lock(mutex_);
-  return revision_;
+  return volume_.revision();
 }
 
 }  // namespace semfuse::server

@@ -130,7 +130,8 @@ class Mapper {
   };
   Size size() const;  // counts the map's voxels: for the status, not for every frame
   uint64_t framesIntegrated() const;
-  // Incremented by every write; lets status and query caches tell whether the map changed.
+  // The map's revision (LabeledVolume::revision): raised by every change, so status, query caches
+  // and the distance field tell whether the map changed.
   uint64_t revision() const;
 
   // Called after every write (integrate, label pass, load, reset), on the writing thread, without
@@ -159,7 +160,6 @@ class Mapper {
   // Writer first: a frame waiting to be fused is not passed over by queries (writer_first_mutex.hpp).
   mutable WriterFirstMutex mutex_;
   volume::LabeledVolume volume_;
-  uint64_t revision_ = 0;  // guarded by mutex_
   std::function<void()> on_change_;
 
   mutable std::mutex snapshot_mutex_;  // one snapshot at a time; guards the two below

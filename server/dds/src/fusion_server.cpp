@@ -277,6 +277,9 @@ ServerStatus FusionServer::snapshot() const {
   s.history_frames = static_cast<uint32_t>(fusion_->historyFrames());
   s.voxel_size = config_.volume.voxel_size;
   s.truncation = config_.volume.truncation;
+  // The field first: it never reports more than the map it follows.
+  if (distance_field_) s.distance_field_revision = distance_field_->revision();
+  s.map_revision = mapper_->revision();
   const auto size = mapper_->size();
   s.allocated_voxels = size.allocated_voxels;
   s.allocated_blocks = size.allocated_blocks;
