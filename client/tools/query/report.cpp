@@ -61,10 +61,10 @@ std::string statusTable(const client::ServerStatus& s) {
   out += fmt::format("  map            {} voxels in {} blocks, {:.1f} MiB, voxel {:.3f} m, truncation {:.3f} m\n",
                      s.allocated_voxels, s.allocated_blocks, s.map_bytes / 1048576.0, s.voxel_size, s.truncation);
   if (s.distance_field_revision > 0)
-    out += fmt::format("  distance field {}\n", s.distance_field_revision >= s.map_revision
-                                                      ? std::string("current")
-                                                      : fmt::format("{} map revisions behind",
-                                                                    s.map_revision - s.distance_field_revision));
+    out += fmt::format("  distance field {}\n",
+                       s.distance_field_revision >= s.map_revision
+                           ? std::string("current")
+                           : fmt::format("{} map revisions behind", s.map_revision - s.distance_field_revision));
   out += fmt::format("  process        {:.1f} MiB resident, history {} frames\n", s.rss_bytes / 1048576.0,
                      s.history_frames);
   out += fmt::format("  map file       {} (last save {}, {:.0f} s ago)\n", s.map_file.empty() ? "-" : s.map_file,

@@ -70,8 +70,8 @@ struct ServerStatus {
   std::vector<ServerError> last_errors;
   std::string map_file;
   bool last_save_ok = false;
-  double last_save_age_s = 0.0;     // negative: never saved
-  std::vector<StageTiming> stages;  // the stages that ran at least once, in pipeline order
+  double last_save_age_s = 0.0;          // negative: never saved
+  std::vector<StageTiming> stages;       // the stages that ran at least once, in pipeline order
   uint64_t map_revision = 0;             // raised by every change to the map
   uint64_t distance_field_revision = 0;  // the map revision the distance field reflects; 0 without one
 };
