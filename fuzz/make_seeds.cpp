@@ -150,6 +150,11 @@ void segmentationSeeds() {
   Segmentation no_confidence = segmentation;
   no_confidence.confidence.release();
   write("segmentation_cdr", "none", cdr(wire::encodeSegmentation(no_confidence).value().msg()));
+  Segmentation panoptic = segmentation;  // two instances, the left and right halves
+  panoptic.instances.create(6, 8, CV_16UC1);
+  for (int y = 0; y < 6; ++y)
+    for (int x = 0; x < 8; ++x) panoptic.instances.at<uint16_t>(y, x) = static_cast<uint16_t>(x < 4 ? 3 : 9);
+  write("segmentation_cdr", "instances", cdr(wire::encodeSegmentation(panoptic).value().msg()));
 }
 
 // Replies the client decodes, as the server encodes them (common/wire/service_codecs.hpp):

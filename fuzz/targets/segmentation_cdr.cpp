@@ -22,6 +22,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   SEMFUSE_FUZZ_CHECK(s.labels.type() == CV_16UC1);
   SEMFUSE_FUZZ_CHECK(s.confidence.type() == CV_32FC1 && s.confidence.size() == s.labels.size());
   SEMFUSE_FUZZ_CHECK(semfuse::wire::validateConfidence(s.confidence).ok());
+  SEMFUSE_FUZZ_CHECK(s.instances.empty() || (s.instances.type() == CV_16UC1 && s.instances.size() == s.labels.size()));
   (void)semfuse::wire::validateSegmentationSize(sample.value()->width, sample.value()->height, 640, 480);
   (void)semfuse::wire::validateLabels(s.labels, legend);
   return 0;

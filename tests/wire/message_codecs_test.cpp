@@ -58,6 +58,54 @@ TEST(SegmentationCodec, RejectsBadSizesEncodingsAndConfidence) {
   EXPECT_EQ(decodeSegmentation(msg).error(), "segmentation: image size 9000x6 exceeds the 8192-pixel limit");
 }
 
+// Instance 5 on the left half, 9 on the right, none on the bottom row.
+cv::Mat twoInstances() {
+  cv::Mat ids(6, 8, CV_16UC1, cv::Scalar(0));
+  ids(cv::Rect(0, 0, 4, 5)).setTo(5);
+  ids(cv::Rect(4, 0, 4, 5)).setTo(9);
+  return ids;
+}
+
+TEST(SegmentationCodec, CarriesAPanopticInstanceMapAndNoneForClassOnlySegmenters) {
+  Segmentation in = makeSegmentation();
+  auto class_only = decodeSegmentation(encodeSegmentation(in).value().msg());
+  ASSERT_TRUE(class_only.ok()) << class_only.error();
+  EXPECT_TRUE(class_only.value().instances.empty());
+
+  in.instances = twoInstances();
+  auto encoded = encodeSegmentation(in);
+  ASSERT_TRUE(encoded.ok()) << encoded.error();
+  EXPECT_EQ(encoded.value().msg().instances._length, 48u);
+  auto out = decodeSegmentation(encoded.value().msg());
+  ASSERT_TRUE(out.ok()) << out.error();
+  ASSERT_EQ(out.value().instances.type(), CV_16UC1);
+  EXPECT_EQ(cv::norm(in.instances, out.value().instances, cv::NORM_INF), 0.0);
+  EXPECT_EQ(out.value().instances.at<uint16_t>(2, 6), 9);
+
+  Segmentation wrong_size = in;
+  wrong_size.instances = cv::Mat(3, 4, CV_16UC1, cv::Scalar(1));
+  EXPECT_FALSE(encodeSegmentation(wrong_size).ok());
+}
+
+TEST(SegmentationCodec, RejectsAnInstanceMapOfAnotherSizeOrWithoutLabels) {
+  Segmentation in = makeSegmentation();
+  in.instances = twoInstances();
+  auto encoded = encodeSegmentation(in);
+  ASSERT_TRUE(encoded.ok());
+  auto& msg = encoded.value().msg();
+  msg.instances._length = 40;
+  EXPECT_EQ(decodeSegmentation(msg).error(), "instances: 40 ids for 8x6 labels, expected 48 (or none)");
+  msg.instances._length = 48;
+  for (uint32_t i = 0; i < msg.labels._length; ++i) msg.labels._buffer[i] = 0;
+  EXPECT_EQ(decodeSegmentation(msg).error(),
+            "instances: 40 pixels name an instance but none has a label (0 = unlabeled): send each instance's "
+            "class in labels");
+  msg.labels._buffer[47] = 3;  // a label where no instance is: still none on an instance
+  EXPECT_FALSE(decodeSegmentation(msg).ok());
+  msg.labels._buffer[0] = 3;  // one labeled instance pixel: the rest are ignored by the map, not refused
+  EXPECT_TRUE(decodeSegmentation(msg).ok());
+}
+
 TEST(TrackedPoseCodec, RoundTripAndUnknownState) {
   TrackedPose in;
   in.camera_id = "cam1";

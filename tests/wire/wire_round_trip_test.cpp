@@ -70,9 +70,11 @@ TEST(WireRoundTrip, Segmentation) {
   in.stamp = {7, 250000000};
   in.labels.create(3, 5, CV_16UC1);
   in.confidence.create(3, 5, CV_32FC1);
+  in.instances.create(3, 5, CV_16UC1);
   for (int i = 0; i < 15; ++i) {
     in.labels.at<uint16_t>(i / 5, i % 5) = static_cast<uint16_t>(i * 3);
     in.confidence.at<float>(i / 5, i % 5) = static_cast<float>(i) / 16.0f;
+    in.instances.at<uint16_t>(i / 5, i % 5) = static_cast<uint16_t>(i < 5 ? 0 : 60000 + i / 5);
   }
   auto encoded = encodeSegmentation(in, "32FC1");
   ASSERT_TRUE(encoded.ok()) << encoded.error();
@@ -85,6 +87,7 @@ TEST(WireRoundTrip, Segmentation) {
   EXPECT_EQ(out.value().stamp.nanosec, 250000000u);
   expectSameImage(in.labels, out.value().labels, "labels");
   expectSameImage(in.confidence, out.value().confidence, "confidence");
+  expectSameImage(in.instances, out.value().instances, "instances");
 }
 
 TEST(WireRoundTrip, TrackedPose) {

@@ -33,6 +33,11 @@ Result<EncodedSegmentation> encodeSegmentation(const Segmentation& segmentation,
     }
     if (Status s = validateConfidence(segmentation.confidence); !s) return makeError(s.error());
   }
+  const cv::Mat& instances = segmentation.instances;
+  if (!instances.empty() && (instances.type() != CV_16UC1 || instances.size() != labels.size()))
+    return makeError("encodeSegmentation: instances must be CV_16UC1 of the labels' size, got " +
+                     typeName(instances.type()) + " " + std::to_string(instances.cols) + "x" +
+                     std::to_string(instances.rows));
 
   EncodedSegmentation encoded;
   auto& msg = encoded.msg();
@@ -59,8 +64,38 @@ Result<EncodedSegmentation> encodeSegmentation(const Segmentation& segmentation,
     confidence.assign(floats.ptr<uint8_t>(), floats.ptr<uint8_t>() + floats.total() * sizeof(float));
   }
   encoded.keepSequence(msg.confidence, std::move(confidence));
+  std::vector<uint16_t> instance_ids;
+  if (!instances.empty()) {
+    const cv::Mat continuous_ids = instances.isContinuous() ? instances : instances.clone();
+    instance_ids.assign(continuous_ids.ptr<uint16_t>(), continuous_ids.ptr<uint16_t>() + continuous_ids.total());
+  }
+  encoded.keepSequence(msg.instances, std::move(instance_ids));
   return encoded;
 }
+
+namespace {
+// The optional instance map, into segmentation.instances (its labels already decoded).
+Status decodeInstances(const semfuse_msg_dds__Segmentation_& msg, Segmentation& segmentation) {
+  if (Status s = validateSequence("instances", msg.instances._length, msg.instances._maximum, msg.instances._buffer);
+      !s)
+    return s;
+  if (msg.instances._length == 0) return Status::Ok();  // a class-only segmenter
+  const uint64_t pixels = static_cast<uint64_t>(msg.width) * msg.height;
+  if (msg.instances._length != pixels)
+    return makeError("instances: " + std::to_string(msg.instances._length) + " ids for " + std::to_string(msg.width) +
+                     "x" + std::to_string(msg.height) + " labels, expected " + std::to_string(pixels) + " (or none)");
+  const cv::Mat ids(segmentation.labels.size(), CV_16UC1, msg.instances._buffer);
+  // An instance is a part of a class: ids on pixels that all lack a label say nothing the map can use.
+  const cv::Mat named = ids != 0;
+  const int named_pixels = cv::countNonZero(named);
+  if (named_pixels > 0 && cv::countNonZero(named & (segmentation.labels != 0)) == 0)
+    return makeError("instances: " + std::to_string(named_pixels) +
+                     " pixels name an instance but none has a label (0 = unlabeled): send each instance's class in "
+                     "labels");
+  segmentation.instances = ids.clone();
+  return Status::Ok();
+}
+}  // namespace
 
 Result<Segmentation> decodeSegmentation(const semfuse_msg_dds__Segmentation_& msg) {
   Segmentation segmentation;
@@ -105,6 +140,7 @@ Result<Segmentation> decodeSegmentation(const semfuse_msg_dds__Segmentation_& ms
     std::memcpy(segmentation.confidence.data, msg.confidence._buffer, bytes);
     if (Status s = validateConfidence(segmentation.confidence); !s) return makeError(s.error());
   }
+  if (Status s = decodeInstances(msg, segmentation); !s) return makeError(s.error());
   return segmentation;
 }
 

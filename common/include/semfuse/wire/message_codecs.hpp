@@ -21,10 +21,12 @@ using EncodedObjectEvents = OwnedMessage<semfuse_msg_dds__ObjectEvents_>;
 
 const std::vector<std::string>& confidenceEncodings();  // "", 8UC1, 32FC1
 
-// labels CV_16UC1; confidence CV_32FC1 of the same size in [0, 1], or empty (sent as "").
+// labels CV_16UC1; confidence CV_32FC1 of the same size in [0, 1], or empty (sent as "");
+// instances CV_16UC1 of the same size (0 = no instance), or empty for a class-only segmenter.
 Result<EncodedSegmentation> encodeSegmentation(const Segmentation& segmentation,
                                                const std::string& confidence_encoding = "8UC1");
-// Validates sizes, encodings and confidence range; "" decodes to all-ones confidence.
+// Validates sizes, encodings and confidence range; "" decodes to all-ones confidence. An instance
+// map must have the labels' size, and instances on pixels none of which is labeled are refused.
 // Checking against the frame size and the legend is the receiver's: validateSegmentationSize,
 // validateLabels.
 Result<Segmentation> decodeSegmentation(const semfuse_msg_dds__Segmentation_& msg);
