@@ -13,6 +13,7 @@
 #include <openvdb/io/File.h>
 
 #include "analytic_scene.hpp"
+#include "semfuse/volume/instance_integration.hpp"
 #include "semfuse/volume/integrator.hpp"
 #include "semfuse/volume/map_file.hpp"
 
@@ -101,6 +102,37 @@ TEST_F(MapFile, RoundTripIsBitIdentical) {
   EXPECT_EQ(map.extra.at("camera"), "kinect v1");
   EXPECT_EQ(map.extra.at("note"), "plane");
   EXPECT_EQ(map.volume.voxel({0, 0, 100}).label, volume.voxel({0, 0, 100}).label);
+}
+
+TEST_F(MapFile, KeepsPanopticInstanceEvidenceAndTheNextInstanceId) {
+  LabeledVolume volume = labeledPlane();
+  const fs::path plain = folder_ / "plain.vdb";
+  ASSERT_TRUE(saveMap(volume, legend(), plain).ok());
+  auto without = loadMap(plain);
+  ASSERT_TRUE(without.ok()) << without.error();
+  EXPECT_EQ(without.value().volume.instanceGrid(), nullptr);  // class-only maps carry none
+
+  // Two instances side by side on the plane, seen from the first pose.
+  const PinholeIntrinsics k = testing::smallCamera();
+  const Pose pose = testing::lookAt({0, 0, 0}, {0, 0, 1});
+  const cv::Mat depth = testing::renderPlane(k, pose, {0, 0, -1}, -1.0);
+  cv::Mat labels(k.height, k.width, CV_16UC1, cv::Scalar(4));
+  cv::Mat instances(k.height, k.width, CV_16UC1, cv::Scalar(1));
+  instances.colRange(k.width / 2, k.width).setTo(2);
+  auto fused = integrateInstances(volume, depth, labels, instances, k, pose);
+  ASSERT_TRUE(fused.ok()) << fused.error();
+  ASSERT_EQ(fused.value().created, 2u);
+  ASSERT_NE(volume.instanceGrid(), nullptr);
+
+  const fs::path path = folder_ / "panoptic.vdb";
+  ASSERT_TRUE(saveMap(volume, legend(), path).ok());
+  auto loaded = loadMap(path);
+  ASSERT_TRUE(loaded.ok()) << loaded.error();
+  const LabeledVolume& map = loaded.value().volume;
+  ASSERT_NE(map.instanceGrid(), nullptr);
+  expectSameLeaves(volume.instanceGrid()->tree(), map.instanceGrid()->tree());
+  EXPECT_EQ(map.nextInstanceId(), volume.nextInstanceId());
+  EXPECT_EQ(map.nextInstanceId(), 3u);
 }
 
 TEST_F(MapFile, TsdfIsALevelSetOtherToolsCanRead) {

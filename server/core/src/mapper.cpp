@@ -5,8 +5,11 @@
 #include <cmath>
 #include <utility>
 
+#include <spdlog/spdlog.h>
+
 #include "semfuse/tracking/volume_field.hpp"
 #include "semfuse/volume/free_space.hpp"
+#include "semfuse/volume/instance_integration.hpp"
 
 namespace semfuse::server {
 namespace {
@@ -130,6 +133,8 @@ Result<volume::IntegrationStats> Mapper::integrate(const PosedFrame& posed, cons
     std::unique_lock lock(mutex_);
     // Tracking reads between batches: a pose waits for a part of the frame, not all of it.
     stats = volume::integrate(volume_, posed.frame, segmentation, [this] { mutex_.admitReadersAhead(); });
+    if (stats.ok() && segmentation)
+      fuseInstances(posed.frame.depth, *segmentation, posed.frame.intrinsics, *posed.frame.camera_to_world);
     frames_integrated_ = volume_.framesIntegrated();
     // The frame passed the same checks in integrate(): this cannot fail on its input.
     if (stats.ok() && options_.observe_free_space)
@@ -144,6 +149,22 @@ Result<volume::IntegrationStats> Mapper::integrate(const PosedFrame& posed, cons
 }
 
 void Mapper::abandon(const PosedFrame& /*frame*/) { firstFrameDone(); }
+
+void Mapper::fuseInstances(const cv::Mat& depth, const Segmentation& segmentation, const PinholeIntrinsics& intrinsics,
+                           const Pose& camera_to_world) {
+  if (segmentation.instances.empty()) return;  // a class-only segmenter
+  auto fused = volume::integrateInstances(volume_, depth, segmentation.labels, segmentation.instances, intrinsics,
+                                          camera_to_world);
+  // The codec checked the instance map against its labels, which have just gone in at this depth
+  // and pose: a failure here is a bug, not bad input.
+  if (!fused) {
+    spdlog::error("instances of {}/{} not fused: {}", segmentation.camera_id, segmentation.frame_seq, fused.error());
+    return;
+  }
+  const volume::InstanceStats& s = fused.value();
+  spdlog::debug("instances of {}/{}: {} segments, {} matched, {} new", segmentation.camera_id, segmentation.frame_seq,
+                s.segments, s.matched, s.created);
+}
 
 Result<FrameOutcome> Mapper::integrateFrame(const Frame& frame, const Segmentation* segmentation) {
   auto posed = track(frame);
@@ -165,6 +186,7 @@ Result<volume::IntegrationStats> Mapper::integrateSegmentation(const HistoryEntr
   std::unique_lock lock(mutex_);
   auto stats = volume::integrateLabels(volume_, frame.depth, segmentation.labels, segmentation.confidence,
                                        frame.intrinsics, frame.camera_to_world);
+  if (stats.ok()) fuseInstances(frame.depth, segmentation, frame.intrinsics, frame.camera_to_world);
   lock.unlock();
   if (stats.ok() && on_change_) on_change_();
   return stats;

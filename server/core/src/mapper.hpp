@@ -84,7 +84,8 @@ class Mapper {
   // intrinsics, a pose that is not rigid). A frame the tracker cannot place (lost, or a pose-less
   // camera no keyframe has placed yet) is no error: its outcome says why it has no pose.
   Result<PosedFrame> track(Frame frame);
-  // Fusion thread only: fuses a posed frame (and the labels of a segmentation of it) at its pose.
+  // Fusion thread only: fuses a posed frame (and the labels and instances of a segmentation of it)
+  // at its pose.
   // The caller checks first that the frame was tracked against the map of the current epoch.
   Result<volume::IntegrationStats> integrate(const PosedFrame& frame, const Segmentation* segmentation = nullptr);
   // Fusion thread only: a posed frame that will never be integrated (a newer one of its camera
@@ -145,6 +146,9 @@ class Mapper {
   // map the next pose-less frames wait for it (they would have nothing to be tracked against, and
   // a second camera would define a second world).
   void firstFrameDone();
+  // A panoptic segmentation's instances, after its labels, under the exclusive lock.
+  void fuseInstances(const cv::Mat& depth, const Segmentation& segmentation, const PinholeIntrinsics& intrinsics,
+                     const Pose& camera_to_world);
 
   MapperOptions options_;
   // Thread-safe for different cameras (tracker.hpp); reset only under the exclusive lock, which no

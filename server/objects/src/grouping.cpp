@@ -134,6 +134,10 @@ class Grouper {
     // that a patch cannot drift round a rounded crease a few degrees per voxel.
     std::vector<Eigen::Vector3f> normal_sum(surface_.size());
     for (std::size_t i = 0; i < surface_.size(); ++i) normal_sum[i] = surface_[i].normal;
+    // Each patch's instance (the first of its voxels that has one): voxels without instance
+    // evidence, along the seam where two touching objects meet, must not chain them together.
+    std::vector<uint32_t> patch_instance(surface_.size());
+    for (std::size_t i = 0; i < surface_.size(); ++i) patch_instance[i] = surface_[i].instance;
     const float cos_smooth = static_cast<float>(cosDegrees(params_.smooth_angle_deg));
     const float tolerance = static_cast<float>(params_.concavity_tolerance);
     const auto& offsets = detail::linkOffsets();
@@ -148,8 +152,11 @@ class Grouper {
       if (rp == rq) continue;
       const Eigen::Vector3f sum = normal_sum[rp] + normal_sum[rq];
       if (normal_sum[rp].dot(normal_sum[rq]) < cos_smooth * normal_sum[rp].norm() * normal_sum[rq].norm()) continue;
+      if (instancesConflict(patch_instance[rp], patch_instance[rq])) continue;
+      const uint32_t instance = patch_instance[rp] != 0 ? patch_instance[rp] : patch_instance[rq];
       voxels.unite(rp, rq);
       normal_sum[voxels.find(rp)] = sum;
+      patch_instance[voxels.find(rp)] = instance;
     }
     const int32_t count = voxels.compact(patch_of_);
     regions_.assign(count, Region{});

@@ -157,6 +157,8 @@ openvdb::MetaMap fileMetadata(const LabeledVolume& volume, const LabelLegend& le
     meta.insertMeta("semfuse:label_sidecar_checksum",
                     openvdb::Int64Metadata(static_cast<int64_t>(sidecarChecksum(sidecar->tree()))));
   meta.insertMeta("semfuse:frames_integrated", openvdb::Int64Metadata(static_cast<int64_t>(volume.framesIntegrated())));
+  if (volume.instanceGrid())
+    meta.insertMeta("semfuse:next_instance_id", openvdb::Int64Metadata(static_cast<int64_t>(volume.nextInstanceId())));
   meta.insertMeta("semfuse:legend_name", openvdb::StringMetadata(legend.name));
   meta.insertMeta("semfuse:legend", openvdb::StringMetadata(legend_text));
   meta.insertMeta("semfuse:legend_background", openvdb::StringMetadata(joinIds(legend.background_ids)));
@@ -351,6 +353,18 @@ Result<LoadedMap> readMap(const fs::path& path) {
   // Observed free space (files written before it was kept have none: only the geometry grid's
   // voxels count as observed then).
   if (auto free_space = findGrid<FreeSpaceGrid>(*grids, "free_space")) map.volume.setFreeSpaceGrid(free_space);
+  // Panoptic instance evidence, in maps fused with instance maps.
+  if (auto instances = findGrid<InstanceGrid>(*grids, "instance")) {
+    for (auto leaf = instances->tree().cbeginLeaf(); leaf; ++leaf)
+      if (!packed.value()->probeConstLeaf(leaf->origin()))
+        return makeError("the 'instance' grid has leaves where the tsdf has none");
+    auto next_id = required<int64_t>(*meta, "semfuse:next_instance_id");
+    if (!next_id) return makeError(next_id.error());
+    if (next_id.value() < 1 || next_id.value() > static_cast<int64_t>(kMaxInstanceId) + 1)
+      return makeError("metadata 'semfuse:next_instance_id' is out of range");
+    map.volume.setInstanceGrid(instances);
+    map.volume.setNextInstanceId(static_cast<uint32_t>(next_id.value()));
+  }
   map.volume.setFramesIntegrated(static_cast<uint64_t>(frames.value()));
   // A consumer of changes that starts at revision 0 rebuilds from every leaf of the loaded map.
   map.volume.continueRevisionsFrom(0);
@@ -390,6 +404,7 @@ Status saveMap(const LabeledVolume& volume, const LabelLegend& legend, const fs:
   if (volume.colorGrid()) grids.push_back(volume.colorGridPtr());
   if (volume.labelSidecarGrid()) grids.push_back(volume.labelSidecarGridPtr());
   if (volume.freeSpaceGrid()) grids.push_back(volume.freeSpaceGridPtr());
+  if (volume.instanceGrid()) grids.push_back(volume.instanceGridPtr());
   const uint64_t checksum =
       detail::voxelChecksum(volume.geometryGrid().tree(), volume.colorGrid() ? &volume.colorGrid()->tree() : nullptr);
   removeStaleTemporaries(path);
