@@ -10,7 +10,8 @@ namespace semfuse::segmentation {
 
 // Geometry and labels of the room do not depend on its texture seed, so the default room has
 // exactly the labels of whatever room semfuse-camera rendered.
-SyntheticGroundTruth::SyntheticGroundTruth() : scene_(synthetic::makeRoom()) {}
+SyntheticGroundTruth::SyntheticGroundTruth(bool with_instances)
+    : scene_(synthetic::makeRoom()), with_instances_(with_instances) {}
 
 Result<Segmentation> SyntheticGroundTruth::segment(const Frame& frame) const {
   if (!frame.camera_to_world) {
@@ -21,6 +22,7 @@ Result<Segmentation> SyntheticGroundTruth::segment(const Frame& frame) const {
   Segmentation result;
   result.labels = view.value().labels;
   result.confidence = cv::Mat(result.labels.size(), CV_32FC1, cv::Scalar(1.0F));
+  if (with_instances_) result.instances = view.value().instances;
   return result;
 }
 

@@ -66,6 +66,24 @@ void regionNoise(cv::Mat& labels, cv::Mat& confidence, const NoiseParams& params
   }
 }
 
+// Renumbers the ids at random and erodes every mask by `erosion` pixels (3x3 steps).
+void instanceNoise(cv::Mat& instances, int erosion, std::mt19937_64& rng) {
+  std::vector<uint16_t> ids(instances.begin<uint16_t>(), instances.end<uint16_t>());
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  ids.erase(std::remove(ids.begin(), ids.end(), uint16_t{0}), ids.end());
+  std::vector<uint16_t> renamed(ids.size());
+  for (std::size_t i = 0; i < ids.size(); ++i) renamed[i] = static_cast<uint16_t>(i + 1);
+  std::shuffle(renamed.begin(), renamed.end(), rng);
+  cv::Mat out = cv::Mat::zeros(instances.size(), CV_16UC1);
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    cv::Mat mask = instances == ids[i];
+    if (erosion > 0) cv::erode(mask, mask, cv::Mat(), cv::Point(-1, -1), erosion);
+    out.setTo(renamed[i], mask);
+  }
+  instances = out;
+}
+
 }  // namespace
 
 Result<NoiseModel> parseNoiseModel(const std::string& text) {
@@ -78,6 +96,9 @@ Result<Segmentation> addLabelNoise(const Segmentation& clean, const NoiseParams&
   if (clean.labels.type() != CV_16UC1) return makeError("noise: labels must be CV_16UC1");
   if (params.probability < 0.0 || params.probability > 1.0) return makeError("noise: probability must be in [0, 1]");
   if (params.candidates.size() < 2) return makeError("noise: needs at least two candidate labels");
+  if (params.instance_erosion < 0) return makeError("noise: instance erosion must not be negative");
+  if (!clean.instances.empty() && (clean.instances.type() != CV_16UC1 || clean.instances.size() != clean.labels.size()))
+    return makeError("noise: instances must be CV_16UC1 of the labels' size");
   Segmentation noisy = clean;
   noisy.labels = clean.labels.clone();
   noisy.confidence =
@@ -88,6 +109,10 @@ Result<Segmentation> addLabelNoise(const Segmentation& clean, const NoiseParams&
   std::mt19937_64 rng(seq);
   if (params.model == NoiseModel::kPixel) pixelNoise(noisy.labels, noisy.confidence, params, rng);
   else regionNoise(noisy.labels, noisy.confidence, params, rng);
+  if (!clean.instances.empty()) {
+    noisy.instances = clean.instances.clone();
+    instanceNoise(noisy.instances, params.instance_erosion, rng);
+  }
   return noisy;
 }
 

@@ -161,11 +161,11 @@ def wall_labels(frame: semfuse.Frame) -> np.ndarray:
     return np.repeat(row[None, :], frame.intrinsics.height, axis=0)
 
 
-def build_wall(server: Server, frames: range, camera_id: str = "wall") -> None:
-    """Publishes `frames` of the wall with a segmenter labeling them, each after the last was fused."""
+def build_wall(server: Server, frames: range, camera_id: str = "wall", segment=wall_labels) -> None:
+    """Publishes `frames` of the wall with a segmenter (`segment`) labeling them, each after the last was fused."""
     camera = semfuse.CameraPublisher(camera_id, color_encoding="raw", domain_id=DOMAIN)
     assert camera.wait_for_server(10)
-    with semfuse.Segmenter(wall_labels, segmenter_id="wall-labels", domain_id=DOMAIN) as segmenter:
+    with semfuse.Segmenter(segment, segmenter_id="wall-labels", domain_id=DOMAIN) as segmenter:
         wait_for(lambda: camera.matched_readers == 2, what="the server and the segmenter")
         for seq in frames:
             done = server.client.status().segmentations_integrated

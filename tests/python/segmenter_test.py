@@ -82,8 +82,10 @@ def results(frame: semfuse.Frame):
         6: lambda: (labels, np.ones((10, 10), np.float32)),
         7: lambda: (labels, np.full((480, 640), 1.5, np.float32)),
         8: lambda: (labels, np.full((480, 640), 0.75, np.float64)),
-        9: lambda: (labels, None, None),
+        9: lambda: (labels, None, None, None),
         10: lambda: labels[::2, ::2].astype(np.int64),  # half size, another integer type: fine
+        11: lambda: (labels, None, np.ones((10, 10), np.uint16)),
+        12: lambda: (labels, None, np.full(labels.shape, -1, np.int32)),
     }
     return cases[frame.seq]()
 
@@ -96,7 +98,9 @@ EXPECTED_ERRORS = {
     5: "labels range from 70000 to 70000, outside uint16",
     6: "confidence is a float32 array of shape (10, 10), the labels are 480x640",
     7: "outside [0, 1]",
-    9: "a sequence of 3 items",
+    9: "a sequence of 4 items",
+    11: "instances are 10x10 (rows x cols), the labels 480x640",
+    12: "instances range from -1 to -1, outside uint16",
 }
 
 
@@ -106,7 +110,7 @@ def test_a_callback_that_raises_or_returns_a_wrong_result_costs_that_frame_only(
     errors: dict[int, str] = {}
     with semfuse.Segmenter(results, segmenter_id="flaky", domain_id=DOMAIN) as segmenter:
         assert segmenter.wait_for_camera(10)
-        for seq in range(11):
+        for seq in range(13):
             publish_in_step(camera, segmenter, [seq], server)
             if seq in EXPECTED_ERRORS:
                 errors[seq] = segmenter.stats().last_error
@@ -118,10 +122,10 @@ def test_a_callback_that_raises_or_returns_a_wrong_result_costs_that_frame_only(
     assert stats.callback_errors == 1
     assert stats.invalid_results == len(EXPECTED_ERRORS) - 1
     assert stats.failed == len(EXPECTED_ERRORS)
-    assert stats.segmented == stats.published == 11 - len(EXPECTED_ERRORS)
+    assert stats.segmented == stats.published == 13 - len(EXPECTED_ERRORS)
 
     # The server fused every frame and the three good results, and was sent nothing malformed.
-    status = server.wait_until(lambda s: s.segmentations_integrated == 3 and s.frames_integrated == 11)
+    status = server.wait_until(lambda s: s.segmentations_integrated == 3 and s.frames_integrated == 13)
     assert status.rejected_count() == 0 and status.dropped_count() == 0
     sample = server.client.labels_at(np.array([[-0.5, 0.0, 2.0], [0.5, 0.0, 2.0]]))
     assert sample["observed"].all()

@@ -115,3 +115,77 @@ TEST(RegionNoise, SwitchesWholeRegionsAboutPOfThem) {
 
 }  // namespace
 }  // namespace semfuse::segmentation
+
+namespace semfuse::segmentation {
+namespace {
+
+// The quadrants as four instances of ids 10, 20, 30, 40, none in the unlabeled band.
+Segmentation panopticQuadrants() {
+  Segmentation s = quadrants();
+  s.instances = cv::Mat(s.labels.size(), CV_16UC1, cv::Scalar(0));
+  for (int r = 0; r < 200; ++r)
+    for (int c = 0; c < 200; ++c)
+      if (const uint16_t label = s.labels.at<uint16_t>(r, c)) s.instances.at<uint16_t>(r, c) = label * 10;
+  return s;
+}
+
+TEST(InstanceNoise, RenumbersTheIdsAndErodesEveryMask) {
+  const Segmentation clean = panopticQuadrants();
+  NoiseParams params = pixelParams(0.0, 3);
+  params.instance_erosion = 2;
+  auto noisy = addLabelNoise(clean, params, 5);
+  ASSERT_TRUE(noisy.ok()) << noisy.error();
+  const cv::Mat& ids = noisy.value().instances;
+  ASSERT_EQ(ids.type(), CV_16UC1);
+  EXPECT_EQ(cv::norm(noisy.value().labels, clean.labels, cv::NORM_INF), 0.0);  // p = 0: labels unchanged
+  // Each clean instance maps to one new id in 1..4, all four different: a permutation.
+  std::map<uint16_t, std::set<uint16_t>> renamed;
+  int lost = 0;
+  for (int r = 0; r < 200; ++r)
+    for (int c = 0; c < 200; ++c) {
+      const uint16_t before = clean.instances.at<uint16_t>(r, c), after = ids.at<uint16_t>(r, c);
+      if (after == 0) {
+        lost += before != 0;
+        continue;
+      }
+      ASSERT_NE(before, 0) << "an instance grew into (" << r << ", " << c << ")";
+      renamed[before].insert(after);
+    }
+  ASSERT_EQ(renamed.size(), 4u);
+  std::set<uint16_t> used;
+  for (const auto& [before, after] : renamed) {
+    ASSERT_EQ(after.size(), 1u) << before;
+    EXPECT_GE(*after.begin(), 1);
+    EXPECT_LE(*after.begin(), 4);
+    used.insert(*after.begin());
+  }
+  EXPECT_EQ(used.size(), 4u);
+  // Two pixels off each side of every mask (the image border is no mask border for erode).
+  EXPECT_EQ(ids.at<uint16_t>(60, 98), 0);
+  EXPECT_NE(ids.at<uint16_t>(60, 97), 0);
+  EXPECT_EQ(ids.at<uint16_t>(21, 50), 0);
+  EXPECT_NE(ids.at<uint16_t>(22, 50), 0);
+  EXPECT_GT(lost, 4 * 180);
+  // Another frame renumbers differently sooner or later; the same frame the same way.
+  auto again = addLabelNoise(clean, params, 5);
+  EXPECT_EQ(cv::norm(again.value().instances, ids, cv::NORM_INF), 0.0);
+  bool differs = false;
+  for (uint64_t seq = 6; seq < 16 && !differs; ++seq)
+    differs = cv::norm(addLabelNoise(clean, params, seq).value().instances, ids, cv::NORM_INF) != 0.0;
+  EXPECT_TRUE(differs);
+}
+
+TEST(InstanceNoise, ClassOnlySegmentationsStayWithoutInstancesAndBadMapsAreRefused) {
+  auto noisy = addLabelNoise(quadrants(), pixelParams(0.3, 1), 0);
+  ASSERT_TRUE(noisy.ok());
+  EXPECT_TRUE(noisy.value().instances.empty());
+  Segmentation bad = panopticQuadrants();
+  bad.instances = cv::Mat(10, 10, CV_16UC1, cv::Scalar(1));
+  EXPECT_FALSE(addLabelNoise(bad, pixelParams(0.3, 1), 0).ok());
+  NoiseParams negative = pixelParams(0.3, 1);
+  negative.instance_erosion = -1;
+  EXPECT_FALSE(addLabelNoise(panopticQuadrants(), negative, 0).ok());
+}
+
+}  // namespace
+}  // namespace semfuse::segmentation

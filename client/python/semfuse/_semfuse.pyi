@@ -569,13 +569,18 @@ class SegmenterStats:
     @property
     def last_segment_ms(self) -> float: ...
 
-SegmentResult = Union[npt.NDArray[np.integer], tuple[npt.NDArray[np.integer], Union[npt.NDArray[np.floating], None]]]
+SegmentResult = Union[
+    npt.NDArray[np.integer],
+    tuple[npt.NDArray[np.integer], Union[npt.NDArray[np.floating], None]],
+    tuple[npt.NDArray[np.integer], Union[npt.NDArray[np.floating], None], Union[npt.NDArray[np.integer], None]],
+]
 
 class Segmenter:
     """Runs a Python function on the frames cameras publish and publishes its labels to the server.
     The callback returns (H, W) integer labels within uint16 (at most the frame's size, 0 = unlabeled),
-    or (labels, confidence) with float confidence in [0, 1]. One that raises or returns something else
-    costs that frame only: it is logged and counted."""
+    or (labels, confidence) with float confidence in [0, 1] (or None), or (labels, confidence, instances)
+    with a panoptic segmenter's integer instance ids of the labels' size (0 = no instance). One that
+    raises or returns something else costs that frame only: it is logged and counted."""
 
     def __init__(self, callback: Callable[[Frame], SegmentResult], segmenter_id: str = "python-segmenter",
                  camera_id: str = "", every: int = 1, delay: float = 0.0, participant: Participant | None = None,

@@ -104,25 +104,40 @@ cv::Mat colorFromArray(const py::handle& object, const char* what) {
   return rgb.ptr() == a.ptr() ? image : image.clone();
 }
 
-Result<cv::Mat> labelsFromArray(const py::handle& object) {
+namespace {
+// A 2-D array of integers within uint16, copied as CV_16UC1; errors name `what`.
+Result<cv::Mat> uint16ImageFromArray(const py::handle& object, const std::string& what) {
   if (!py::isinstance<py::array>(object))
     return makeError(
         ErrorCode::kInvalidArgument,
-        "labels must be a numpy array, got " + py::str(py::type::of(object).attr("__name__")).cast<std::string>());
+        what + " must be a numpy array, got " + py::str(py::type::of(object).attr("__name__")).cast<std::string>());
   const auto a = py::reinterpret_borrow<py::array>(object);
-  if (a.ndim() != 2) return makeError(ErrorCode::kInvalidArgument, "labels must be 2-D, got a " + describe(a));
+  if (a.ndim() != 2) return makeError(ErrorCode::kInvalidArgument, what + " must be 2-D, got a " + describe(a));
   if (!isInteger(a))
-    return makeError(ErrorCode::kInvalidArgument, "labels must be integers (uint16), got a " + describe(a));
-  if (a.size() == 0) return makeError(ErrorCode::kInvalidArgument, "labels are empty: " + describe(a));
+    return makeError(ErrorCode::kInvalidArgument, what + " must be integers (uint16), got a " + describe(a));
+  if (a.size() == 0) return makeError(ErrorCode::kInvalidArgument, what + " are empty: " + describe(a));
   if (!a.dtype().is(py::dtype::of<uint16_t>())) {
     const auto low = a.attr("min")().cast<double>();
     const auto high = a.attr("max")().cast<double>();
     if (low < 0 || high > 65535)
       return makeError(ErrorCode::kInvalidArgument,
-                       "labels range from " + py::repr(a.attr("min")()).cast<std::string>() + " to " +
+                       what + " range from " + py::repr(a.attr("min")()).cast<std::string>() + " to " +
                            py::repr(a.attr("max")()).cast<std::string>() + ", outside uint16 (" + describe(a) + ")");
   }
   return wrap(contiguous<uint16_t>(a), CV_16UC1).clone();
+}
+}  // namespace
+
+Result<cv::Mat> labelsFromArray(const py::handle& object) { return uint16ImageFromArray(object, "labels"); }
+
+Result<cv::Mat> instancesFromArray(const py::handle& object, const cv::Size& size) {
+  auto ids = uint16ImageFromArray(object, "instances");
+  if (!ids) return ids;
+  if (ids.value().size() != size)
+    return makeError(ErrorCode::kInvalidArgument, "instances are " + std::to_string(ids.value().rows) + "x" +
+                                                      std::to_string(ids.value().cols) + " (rows x cols), the labels " +
+                                                      std::to_string(size.height) + "x" + std::to_string(size.width));
+  return ids;
 }
 
 Result<cv::Mat> confidenceFromArray(const py::handle& object, const cv::Size& size) {

@@ -39,6 +39,9 @@ cv::Mat colorFromArray(const py::handle& array, const char* what);
 // A segmenter's labels: a 2-D integer array whose values fit uint16, copied into a CV_16UC1
 // image the Segmentation owns. An error (not an exception) says what is wrong.
 Result<cv::Mat> labelsFromArray(const py::handle& array);
+// A panoptic segmenter's instance ids (0 = no instance): integers within uint16 of the labels'
+// `size`, copied as CV_16UC1.
+Result<cv::Mat> instancesFromArray(const py::handle& array, const cv::Size& size);
 // A segmenter's confidence: a 2-D float array of `size`, values in [0, 1], copied as CV_32FC1.
 Result<cv::Mat> confidenceFromArray(const py::handle& array, const cv::Size& size);
 

@@ -45,18 +45,20 @@ PyFrame toPython(const Frame& frame) {
 
 // What the function returned, as a segmentation of `frame`, or why it is not one.
 Result<Segmentation> segmentationOf(const py::object& result, const Frame& frame) {
+  static const std::string kReturn = "return labels, (labels, confidence) or (labels, confidence, instances)";
   py::object labels = result;
   py::object confidence = py::none();
+  py::object instances = py::none();
   if (py::isinstance<py::tuple>(result) || py::isinstance<py::list>(result)) {
     const auto parts = py::reinterpret_borrow<py::sequence>(result);
-    if (parts.size() != 2)
-      return makeError(ErrorCode::kInvalidArgument, "the callback returned a sequence of " +
-                                                        std::to_string(parts.size()) +
-                                                        " items; return labels or (labels, confidence)");
+    if (parts.size() != 2 && parts.size() != 3)
+      return makeError(ErrorCode::kInvalidArgument,
+                       "the callback returned a sequence of " + std::to_string(parts.size()) + " items; " + kReturn);
     labels = parts[0];
     confidence = parts[1];
+    if (parts.size() == 3) instances = parts[2];
   } else if (result.is_none()) {
-    return makeError(ErrorCode::kInvalidArgument, "the callback returned None; return labels or (labels, confidence)");
+    return makeError(ErrorCode::kInvalidArgument, "the callback returned None; " + kReturn);
   }
   auto label_image = labelsFromArray(labels);
   if (!label_image) return label_image.errorInfo();
@@ -71,6 +73,11 @@ Result<Segmentation> segmentationOf(const py::object& result, const Frame& frame
     auto confidence_image = confidenceFromArray(confidence, out.labels.size());
     if (!confidence_image) return confidence_image.errorInfo();
     out.confidence = std::move(confidence_image).value();
+  }
+  if (!instances.is_none()) {
+    auto instance_image = instancesFromArray(instances, out.labels.size());
+    if (!instance_image) return instance_image.errorInfo();
+    out.instances = std::move(instance_image).value();
   }
   return out;
 }
@@ -283,6 +290,7 @@ Runs a Python function on the frames cameras publish and publishes its labels to
     def segment(frame: semfuse.Frame):
         labels = my_network(frame.color)        # (H, W) integer label ids of the server's legend
         return labels.astype(np.uint16)          # or (labels, confidence) with float confidence in [0, 1]
+                                                 # or (labels, confidence, instances): panoptic
 
     with semfuse.Segmenter(segment, segmenter_id="my-net", every=2) as segmenter:
         segmenter.run(idle_exit=10)

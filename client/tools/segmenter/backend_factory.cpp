@@ -13,9 +13,11 @@ namespace semfuse::tools {
 namespace {
 
 Result<client::SegmentFunction> makeBase(const std::string& kind, const BackendOptions& o) {
+  if (o.instances && (kind != "gt" || !o.labels_dir.empty()))
+    return makeError("--instances needs the gt backend on the synthetic room (no --labels-dir)");
   if (kind == "gt") {
     if (o.labels_dir.empty()) {
-      auto gt = std::make_shared<segmentation::SyntheticGroundTruth>();
+      auto gt = std::make_shared<segmentation::SyntheticGroundTruth>(o.instances);
       return client::SegmentFunction([gt](const Frame& f) { return gt->segment(f); });
     }
     auto folder = std::make_shared<segmentation::LabelFolder>(o.labels_dir, o.labels_pattern);
@@ -72,7 +74,7 @@ Result<client::SegmentFunction> makeSegmentFunction(const BackendOptions& o) {
   if (!model) return makeError(model.error());
   auto candidates = noiseCandidates(o);
   if (!candidates) return makeError(candidates.error());
-  segmentation::NoiseParams params{model.value(), o.noise, o.seed, std::move(candidates).value()};
+  segmentation::NoiseParams params{model.value(), o.noise, o.seed, std::move(candidates).value(), o.instance_erosion};
   if (params.candidates.size() < 2) return makeError("label noise needs at least two candidate labels");
   return client::SegmentFunction([inner = std::move(base).value(), params](const Frame& f) -> Result<Segmentation> {
     auto clean = inner(f);

@@ -17,12 +17,14 @@ struct BackendOptions {
   // gt
   std::string labels_dir;  // empty: the synthetic room; else label images per frame
   std::string labels_pattern = "frame-{:06d}.label.png";
+  bool instances = false;  // the synthetic room's instance maps too (a panoptic segmenter)
   // noise
   std::string noise_model = "pixel";
   double noise = 0.3;
   uint64_t seed = 0;
   std::string legend = "synthetic";  // the candidate wrong labels: this legend's non-zero ids
   std::vector<int> noise_labels;     // explicit candidate ids instead of the legend's
+  int instance_erosion = 0;          // pixels off every instance mask's border
   // dnn
   std::string model;
   std::vector<int> input_size{257, 257};

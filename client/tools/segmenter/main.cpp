@@ -40,6 +40,12 @@ void addOptions(CLI::App& app, Options& o) {
   app.add_option("--labels-dir", b.labels_dir, "gt: folder of label images (default: the synthetic room's labels)");
   app.add_option("--labels-pattern", b.labels_pattern, "gt: label file name for a frame seq, fmt-style")
       ->capture_default_str();
+  app.add_flag("--instances", b.instances,
+               "gt: send the synthetic room's exact instance map too, as a panoptic segmenter would");
+  app.add_option("--instance-erosion", b.instance_erosion,
+                 "noise: pixels taken off every instance mask's border (ids are renumbered every frame)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_option("--noise-model", b.noise_model, "noise: pixel (independent pixels) or region (whole regions)")
       ->check(CLI::IsMember({"pixel", "region"}))
       ->capture_default_str();

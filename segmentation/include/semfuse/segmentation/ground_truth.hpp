@@ -14,12 +14,14 @@ namespace semfuse::segmentation {
 
 class SyntheticGroundTruth {
  public:
-  SyntheticGroundTruth();
-  // Labels where the room is hit, 0 elsewhere; confidence 1.
+  // with_instances: also the room's exact instance map (a panoptic segmenter's output).
+  explicit SyntheticGroundTruth(bool with_instances = false);
+  // Labels where the room is hit, 0 elsewhere; confidence 1; instances when asked for.
   Result<Segmentation> segment(const Frame& frame) const;
 
  private:
   synthetic::LabeledScene scene_;
+  bool with_instances_;
 };
 
 class LabelFolder {

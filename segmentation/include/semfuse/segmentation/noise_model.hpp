@@ -5,7 +5,10 @@
 //    the error is as sure of itself as a correct label).
 //  region model: each connected region of one label is switched as a whole, with probability p,
 //    to one wrong label: errors that are spatially coherent, like a real network's.
-// Unlabeled pixels (0) stay unlabeled. Deterministic: the same input, seed and frame seq give
+// Unlabeled pixels (0) stay unlabeled. A panoptic segmentation's instance map, when there is one,
+// gets its ids renumbered at random (a segmenter's ids name nothing beyond its frame) and every
+// instance mask eroded by instance_erosion pixels (borders that lose their instance, as a
+// network's masks do at object edges). Deterministic: the same input, seed and frame seq give
 // the same output, and different frames get independent noise.
 #include <cstdint>
 #include <string>
@@ -24,6 +27,7 @@ struct NoiseParams {
   double probability = 0.3;
   uint64_t seed = 0;
   std::vector<LabelId> candidates;  // the wrong labels to draw from; needs at least two ids
+  int instance_erosion = 0;         // pixels taken off every instance mask's border
 };
 
 Result<NoiseModel> parseNoiseModel(const std::string& text);
