@@ -3,6 +3,7 @@
 // experiment 7 scores the map's objects (object_experiment.hpp) and writes objects.csv / objects.md.
 // deploy/eval.sh runs it with the committed settings and draws the plots.
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -19,6 +20,8 @@
 #include "semfuse/cli/exit_codes.hpp"
 #include "semfuse/cli/progress.hpp"
 #include "semfuse/core/logging.hpp"
+#include "semfuse/objects/object_params.hpp"
+#include "semfuse/volume/map_file.hpp"
 
 namespace {
 namespace fs = std::filesystem;
@@ -45,7 +48,28 @@ struct Options {
   int objects_query_every = 10;
   std::vector<double> diagnosis_noise{0.5, 0.7};
   std::string log_level;
+  std::string score_map;  // score this map file's objects against the room instead
 };
+
+// --score-map: the objects of a map the server fused from the synthetic room, against its truth.
+int scoreMap(const Options& o) {
+  auto map = volume::loadMap(o.score_map);
+  if (!map) {
+    spdlog::error("{}", map.error());
+    return cli::kExitFailure;
+  }
+  const eval::ObjectScore score = eval::scoreRoomMap(map.value().volume, objects::ObjectParams{});
+  const LabelLegend& legend = map.value().legend;
+  std::printf("%-10s %6s %6s %8s %10s %7s\n", "class", "true", "found", "matched", "precision", "recall");
+  for (const auto& [label, counts] : score.classes) {
+    const LabelInfo* info = legend.find(label);
+    std::printf("%-10s %6u %6u %8u %9.1f%% %6.1f%%\n", info ? info->name.c_str() : "?", counts.true_objects,
+                counts.found_objects, counts.matched, 100.0 * counts.precision(), 100.0 * counts.recall());
+  }
+  std::printf("objects: precision %.4f recall %.4f (%u true, %u found, %u matched)\n", score.total.precision(),
+              score.total.recall(), score.total.true_objects, score.total.found_objects, score.total.matched);
+  return cli::kExitOk;
+}
 
 fs::path sharedFolder(const Options& o) {
   if (!o.shared.empty()) return o.shared;
@@ -109,6 +133,7 @@ void writePlotScript(const fs::path& out, const std::vector<std::string>& datase
 }
 
 int run(const Options& o) {
+  if (!o.score_map.empty()) return scoreMap(o);
   std::vector<volume::LabelRule> rules;
   for (const std::string& name : o.rules) {
     auto rule = volume::parseLabelRule(name);
@@ -316,6 +341,9 @@ int main(int argc, char** argv) {
   app.add_option("--diagnosis-noise", o.diagnosis_noise, "pixel noise levels experiment 6 diagnoses")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
+  app.add_option("--score-map", o.score_map,
+                 "instead of the experiments: score the objects of this map file, fused from the synthetic room "
+                 "(e.g. saved by semfuse-server), against the room's exact instances");
   app.add_option("--log-level", o.log_level, std::string("log level: ") + logLevelNames());
   if (const int code = cli::parseCommandLine(app, argc, argv); code >= 0) return code;
   if (Status s = setupLogging("semfuse-eval", o.log_level); !s) {

@@ -120,6 +120,23 @@ Result<ObjectRunResult> runObjectSource(const EvalSequence& sequence, const Obje
   return result;
 }
 
+ObjectScore scoreRoomMap(const volume::LabeledVolume& volume, const objects::ObjectParams& params) {
+  const synthetic::LabeledScene scene = synthetic::makeRoom();
+  const objects::SurfaceVoxels surface =
+      objects::extractSurface(volume, syntheticLegend(), params.min_instance_evidence);
+  const objects::Grouping grouping = objects::groupSurface(surface, params);
+  const std::vector<uint32_t> truth = trueInstances(surface, scene, kTruthDistanceVoxels * volume.params().voxel_size);
+  ObjectScore score = scoreObjects(surface, grouping, truth, instanceLabels(scene), params.min_object_area_m2);
+  for (std::size_t g = 0; g < grouping.groups.size(); ++g) {
+    const objects::Group& group = grouping.groups[g];
+    if (group.fragment) continue;
+    spdlog::debug("object of {}: {:.3f} m2, {} voxels, map instance {}, matches true instance {}",
+                  syntheticLegend().find(group.label)->name, group.area_m2, group.voxel_count, group.instance,
+                  score.instance_of_group[g]);
+  }
+  return score;
+}
+
 Result<std::vector<ObjectRunResult>> runObjectExperiment(const std::vector<const EvalSequence*>& sequences,
                                                          const ObjectExperimentOptions& options,
                                                          const ProgressFn& progress) {

@@ -16,6 +16,7 @@
 #include "object_metric.hpp"
 #include "semfuse/core/result.hpp"
 #include "semfuse/objects/object_params.hpp"
+#include "semfuse/volume/labeled_volume.hpp"
 #include "semfuse/volume/volume_params.hpp"
 
 namespace semfuse::eval {
@@ -55,5 +56,9 @@ Result<std::vector<ObjectRunResult>> runObjectExperiment(const std::vector<const
 // One source on one sequence (tests use it with short sequences).
 Result<ObjectRunResult> runObjectSource(const EvalSequence& sequence, const ObjectSource& source,
                                         const ObjectExperimentOptions& options);
+
+// A map of the synthetic room fused elsewhere (a semfuse-server's map file): its objects, grouped
+// as the objects service groups them, scored as the experiment scores its final map.
+ObjectScore scoreRoomMap(const volume::LabeledVolume& volume, const objects::ObjectParams& params);
 
 }  // namespace semfuse::eval
