@@ -1,5 +1,6 @@
 #include "object_experiment.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <fstream>
 #include <iomanip>
@@ -127,12 +128,28 @@ ObjectScore scoreRoomMap(const volume::LabeledVolume& volume, const objects::Obj
   const objects::Grouping grouping = objects::groupSurface(surface, params);
   const std::vector<uint32_t> truth = trueInstances(surface, scene, kTruthDistanceVoxels * volume.params().voxel_size);
   ObjectScore score = scoreObjects(surface, grouping, truth, instanceLabels(scene), params.min_object_area_m2);
-  for (std::size_t g = 0; g < grouping.groups.size(); ++g) {
-    const objects::Group& group = grouping.groups[g];
-    if (group.fragment) continue;
-    spdlog::debug("object of {}: {:.3f} m2, {} voxels, map instance {}, matches true instance {}",
-                  syntheticLegend().find(group.label)->name, group.area_m2, group.voxel_count, group.instance,
-                  score.instance_of_group[g]);
+  if (spdlog::should_log(spdlog::level::debug)) {
+    // Per object: where it is and which true instances its voxels lie on.
+    std::vector<Eigen::Vector3d> centre(grouping.groups.size(), Eigen::Vector3d::Zero());
+    std::vector<std::map<uint32_t, std::size_t>> on(grouping.groups.size());
+    for (std::size_t i = 0; i < surface.size(); ++i) {
+      const int32_t g = grouping.group_of[i];
+      if (g < 0) continue;
+      centre[g] += volume.indexToWorld(surface[i].ijk);
+      ++on[g][truth[i]];
+    }
+    for (std::size_t g = 0; g < grouping.groups.size(); ++g) {
+      const objects::Group& group = grouping.groups[g];
+      if (group.fragment) continue;
+      std::string lies_on;
+      for (const auto& [instance, count] : on[g]) lies_on += fmt::format(" {}:{}", instance, count);
+      const Eigen::Vector3d c = centre[g] / static_cast<double>(std::max<uint64_t>(group.voxel_count, 1));
+      spdlog::debug(
+          "object of {}: {:.3f} m2, {} voxels at ({:.2f}, {:.2f}, {:.2f}), map instance {}, matches "
+          "true instance {}; voxels on true instances{}",
+          syntheticLegend().find(group.label)->name, group.area_m2, group.voxel_count, c.x(), c.y(), c.z(),
+          group.instance, score.instance_of_group[g], lies_on);
+    }
   }
   return score;
 }
