@@ -88,6 +88,8 @@ class FusionLoop {
   FrameHistory history_;                   // fusion thread only
   PendingSegmentations pending_;           // fusion thread only
   std::deque<Segmentation> label_passes_;  // fusion thread only, oldest first
+  // Fusion-thread time label passes may still spend while frames wait (runLabelPasses).
+  std::chrono::steady_clock::duration label_credit_{0};
   std::atomic<size_t> label_passes_size_{0};
   std::atomic<size_t> history_size_{0};
   std::atomic<size_t> pending_size_{0};
