@@ -61,6 +61,18 @@ std::vector<std::string> boxServerArgs(const std::filesystem::path& map) {
           "0"};
 }
 
+// Frame `seq` of camera cam0 as the renderer saw it (with colour when `color`).
+Frame frameOf(const synthetic::RenderedView& view, int seq, bool color) {
+  Frame frame;
+  frame.camera_id = "cam0";
+  frame.seq = static_cast<uint64_t>(seq);
+  frame.intrinsics = view.intrinsics;
+  frame.depth = view.depth;
+  if (color) frame.color = view.color;
+  frame.camera_to_world = view.camera_to_world;
+  return frame;
+}
+
 // Streams the orbit with its segmentations (with or without instances) and waits until the map
 // has all of them.
 void streamBoxes(ServerHarness& h, bool instances) {
@@ -69,13 +81,7 @@ void streamBoxes(ServerHarness& h, bool instances) {
   for (int i = 0; i < kOrbitFrames; ++i) {
     auto view = synthetic::renderView(scene, k, orbitPose(i));
     ASSERT_TRUE(view.ok()) << view.error();
-    Frame frame;
-    frame.camera_id = "cam0";
-    frame.seq = static_cast<uint64_t>(i);
-    frame.intrinsics = k;
-    frame.depth = view.value().depth;
-    frame.color = view.value().color;
-    frame.camera_to_world = view.value().camera_to_world;
+    const Frame frame = frameOf(view.value(), i, true);
     auto encoded = wire::encodeFrame(frame);
     ASSERT_TRUE(encoded.ok()) << encoded.error();
     ASSERT_TRUE(h.frames().write(encoded.value().msg()).ok());
@@ -147,12 +153,8 @@ TEST(PanopticEndToEnd, TwoTouchingBoxesAreTwoObjectsWithInstancesAndOneWithout) 
   expectTheTwoCubes(boxes(map));
 
   // The map file keeps the instance evidence, and a server resumed from it answers the same.
-  semfuse_srv_dds__Admin_Request_ save{};
-  save.command = semfuse_srv_dds__Admin_Request_Constants_SAVE;
-  save.path = const_cast<char*>("");
-  auto saved = h.admin().call(save, 30s);
-  ASSERT_TRUE(saved.ok()) << saved.error();
-  ASSERT_EQ(saved.value()->status, 0) << dds::replyMessage(*saved.value());
+  h.saveMap();
+  if (::testing::Test::HasFatalFailure()) return;
   auto loaded = volume::loadMap(map_file);
   ASSERT_TRUE(loaded.ok()) << loaded.error();
   ASSERT_NE(loaded.value().volume.instanceGrid(), nullptr);
@@ -174,12 +176,7 @@ TEST(PanopticEndToEnd, AnInstanceMapTheServerCannotUseIsRefusedCountedAndTheRunG
   for (int i = 0; i < 3; ++i) {
     auto view = synthetic::renderView(scene, k, orbitPose(i));
     ASSERT_TRUE(view.ok());
-    Frame frame;
-    frame.camera_id = "cam0";
-    frame.seq = static_cast<uint64_t>(i);
-    frame.intrinsics = k;
-    frame.depth = view.value().depth;
-    frame.camera_to_world = view.value().camera_to_world;
+    const Frame frame = frameOf(view.value(), i, false);
     auto encoded = wire::encodeFrame(frame);
     ASSERT_TRUE(encoded.ok());
     ASSERT_TRUE(h.frames().write(encoded.value().msg()).ok());

@@ -116,6 +116,15 @@ class ServerHarness {
   dds::Writer<semfuse_msg_dds__Frame_>& frames() { return frames_; }
   dds::Writer<semfuse_msg_dds__Segmentation_>& segmentations() { return segmentations_; }
   dds::RpcClient<semfuse_srv_dds__Admin_Request_, semfuse_srv_dds__Admin_Response_>& admin() { return admin_; }
+  // Saves the map through the admin service into the server's --map file; fails the test otherwise.
+  void saveMap() {
+    semfuse_srv_dds__Admin_Request_ save{};
+    save.command = semfuse_srv_dds__Admin_Request_Constants_SAVE;
+    save.path = const_cast<char*>("");
+    auto saved = admin_.call(save, std::chrono::seconds(30));
+    ASSERT_TRUE(saved.ok()) << saved.error();
+    ASSERT_EQ(saved.value()->status, 0) << dds::replyMessage(*saved.value());
+  }
   dds::RpcClient<semfuse_srv_dds__Raycast_Request_, semfuse_srv_dds__Raycast_Response_>& raycast() { return raycast_; }
   const dds::Participant& participant() const { return participant_; }
 

@@ -13,6 +13,14 @@
 
 namespace semfuse::wire {
 
+namespace {
+// A CV_16UC1 image's pixels, row-major, as a message sequence takes them.
+std::vector<uint16_t> uint16Pixels(const cv::Mat& image) {
+  const cv::Mat continuous = image.isContinuous() ? image : image.clone();
+  return {continuous.ptr<uint16_t>(), continuous.ptr<uint16_t>() + continuous.total()};
+}
+}  // namespace
+
 const std::vector<std::string>& confidenceEncodings() {
   static const std::vector<std::string> names = {"", "8UC1", "32FC1"};
   return names;
@@ -49,9 +57,7 @@ Result<EncodedSegmentation> encodeSegmentation(const Segmentation& segmentation,
   msg.segmenter_id = encoded.keepString(segmentation.segmenter_id);
   msg.width = static_cast<uint32_t>(labels.cols);
   msg.height = static_cast<uint32_t>(labels.rows);
-  const cv::Mat continuous = labels.isContinuous() ? labels : labels.clone();
-  encoded.keepSequence(
-      msg.labels, std::vector<uint16_t>(continuous.ptr<uint16_t>(), continuous.ptr<uint16_t>() + continuous.total()));
+  encoded.keepSequence(msg.labels, uint16Pixels(labels));
   msg.confidence_encoding = encoded.keepString(encoding);
   std::vector<uint8_t> confidence;
   if (encoding == "8UC1") {
@@ -64,12 +70,7 @@ Result<EncodedSegmentation> encodeSegmentation(const Segmentation& segmentation,
     confidence.assign(floats.ptr<uint8_t>(), floats.ptr<uint8_t>() + floats.total() * sizeof(float));
   }
   encoded.keepSequence(msg.confidence, std::move(confidence));
-  std::vector<uint16_t> instance_ids;
-  if (!instances.empty()) {
-    const cv::Mat continuous_ids = instances.isContinuous() ? instances : instances.clone();
-    instance_ids.assign(continuous_ids.ptr<uint16_t>(), continuous_ids.ptr<uint16_t>() + continuous_ids.total());
-  }
-  encoded.keepSequence(msg.instances, std::move(instance_ids));
+  encoded.keepSequence(msg.instances, instances.empty() ? std::vector<uint16_t>{} : uint16Pixels(instances));
   return encoded;
 }
 
