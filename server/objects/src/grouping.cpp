@@ -2,10 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <queue>
 #include <tuple>
 #include <unordered_map>
 #include <utility>
+
+#include <tbb/parallel_for.h>
 
 #include "surface_links.hpp"
 #include "union_find.hpp"
@@ -86,8 +89,8 @@ struct Region {
   std::vector<std::pair<LabelId, double>> label_areas;  // area per label
   LabelId label = kUnlabeled;                           // the label of most of the area
   InstanceVotes instances;
-  openvdb::CoordBBox bounds;  // of its voxels
-  std::unordered_map<int32_t, Side> neighbours;
+  openvdb::CoordBBox bounds;                     // of its voxels
+  std::unordered_map<int32_t, Side> neighbours;  // while merging along boundaries (buildNeighbours)
 
   void addLabelArea(LabelId id, double a) {
     for (auto& [l, sum] : label_areas)
@@ -116,11 +119,13 @@ class Grouper {
     // touch most first: judged on their own, a chain of them would join what their neighbours'
     // boundary separates.
     absorbSmall(crumbArea(), /*same_label_only=*/true);
+    buildNeighbours();
     mergeWhile([&](int32_t a, int32_t b, const Side& side) { return convexBoundary(a, b, side); });
     mergeWhile([&](int32_t a, int32_t b, const Side& side) { return partOf(a, b, side); });
     absorbSmall(params_.min_object_area_m2, /*same_label_only=*/false);
     // Pieces just absorbed may have been all that lay between two objects: their boundary is
     // direct now.
+    buildNeighbours();
     mergeWhile([&](int32_t a, int32_t b, const Side& side) { return partOf(a, b, side); });
     absorbEnclosed();
     return finish();
@@ -171,55 +176,74 @@ class Grouper {
     region_of_ = UnionFind(regions_.size());
   }
 
-  // The steps between different patches, of any label: summed per pair of patches in link order,
-  // then entered in the patches' neighbour maps in the order the pairs first occur (the maps'
-  // iteration order breaks ties later), as adding each step to the maps directly would.
+  // The steps between different patches, of any label, summed per pair of patches: ordered by
+  // pair, each pair's steps added in link order. The links between patches are bucketed by lower
+  // patch (a counting sort keeps link order), then each bucket is summed per pair in parallel.
   void measureBoundaries() {
-    const float tolerance = static_cast<float>(params_.concavity_tolerance);
-    const auto& offsets = detail::linkOffsets();
-    struct Boundary {
-      int32_t low, high;  // patches, low < high
-      Side side;          // seen from `low`
+    struct Crossing {
+      int32_t high;   // the higher patch
+      uint32_t link;  // index into links_
     };
-    std::vector<Boundary> boundaries;  // in order of first occurrence
-    // Per patch, the boundaries it is the lower patch of: (other patch, index into boundaries).
-    // Patches have a handful of neighbours: a linear search beats hashing.
-    std::vector<std::vector<std::pair<int32_t, int32_t>>> boundaries_of(regions_.size());
-    for (const auto& [p, q, k] : links_) {
-      const int32_t a = patch_of_[p], b = patch_of_[q];
-      if (a == b) continue;
-      Side step;
-      step.links = 1;
-      const SurfaceVoxel& vp = surface_[p];
-      const SurfaceVoxel& vq = surface_[q];
-      if (vp.label == vq.label) {
-        const Eigen::Vector3f& d = offsets[k].direction;
-        step.concave =
-            (vq.normal - vp.normal).dot(d) < -tolerance || isLedgeStep(vp.normal, vq.normal, offsets[k].offset);
-        step.mine = vp.normal;
-        step.theirs = vq.normal;
-      }
-      const int32_t low = std::min(a, b), high = std::max(a, b);
-      if (a != low) step = step.flipped();
-      auto& known = boundaries_of[low];
-      const auto found = std::find_if(known.begin(), known.end(), [&](const auto& b) { return b.first == high; });
-      if (found != known.end()) {
-        boundaries[found->second].side += step;
-      } else {
-        known.emplace_back(high, static_cast<int32_t>(boundaries.size()));
-        boundaries.push_back({low, high, Side{} += step});
-      }
+    std::vector<std::size_t> bucket(regions_.size() + 1, 0);
+    for (const Link& link : links_) {
+      const int32_t a = patch_of_[link.p], b = patch_of_[link.q];
+      if (a != b) ++bucket[std::min(a, b) + 1];
     }
-    for (const Boundary& boundary : boundaries) {
-      regions_[boundary.low].neighbours.emplace(boundary.high, boundary.side);
-      regions_[boundary.high].neighbours.emplace(boundary.low, boundary.side.flipped());
+    for (std::size_t r = 0; r < regions_.size(); ++r) bucket[r + 1] += bucket[r];
+    std::vector<Crossing> crossings(bucket.back());
+    std::vector<std::size_t> cursor(bucket.begin(), bucket.end() - 1);
+    for (uint32_t i = 0; i < links_.size(); ++i) {
+      const int32_t a = patch_of_[links_[i].p], b = patch_of_[links_[i].q];
+      if (a != b) crossings[cursor[std::min(a, b)]++] = {std::max(a, b), i};
+    }
+    std::vector<std::vector<Boundary>> of_low(regions_.size());
+    tbb::parallel_for(std::size_t{0}, regions_.size(), [&](std::size_t r) {
+      const auto begin = crossings.begin() + static_cast<std::ptrdiff_t>(bucket[r]);
+      const auto end = crossings.begin() + static_cast<std::ptrdiff_t>(bucket[r + 1]);
+      std::stable_sort(begin, end, [](const Crossing& x, const Crossing& y) { return x.high < y.high; });
+      std::vector<Boundary>& out = of_low[r];
+      for (auto it = begin; it != end; ++it) {
+        if (out.empty() || out.back().high != it->high) out.push_back({static_cast<int32_t>(r), it->high, Side{}});
+        out.back().side += stepSeenFrom(static_cast<int32_t>(r), links_[it->link]);
+      }
+    });
+    std::size_t total = 0;
+    for (const auto& part : of_low) total += part.size();
+    boundaries_.clear();
+    boundaries_.reserve(total);
+    for (const auto& part : of_low) boundaries_.insert(boundaries_.end(), part.begin(), part.end());
+  }
+
+  // One link's step between two patches, seen from `patch`, one of them.
+  Side stepSeenFrom(int32_t patch, const Link& link) const {
+    Side step;
+    step.links = 1;
+    const SurfaceVoxel& vp = surface_[link.p];
+    const SurfaceVoxel& vq = surface_[link.q];
+    if (vp.label == vq.label) {
+      const auto& offset = detail::linkOffsets()[link.k];
+      step.concave = (vq.normal - vp.normal).dot(offset.direction) < -static_cast<float>(params_.concavity_tolerance) ||
+                     isLedgeStep(vp.normal, vq.normal, offset.offset);
+      step.mine = vp.normal;
+      step.theirs = vq.normal;
+    }
+    return patch_of_[link.p] == patch ? step : step.flipped();
+  }
+
+  // The regions' neighbour maps from the patches' boundaries, for merging along boundaries: built
+  // when many merges have made the regions few.
+  void buildNeighbours() {
+    for (Region& region : regions_) region.neighbours.clear();
+    for (const Boundary& boundary : boundaries_) {
+      const int32_t a = region_of_.find(boundary.low), b = region_of_.find(boundary.high);
+      if (a == b) continue;
+      regions_[a].neighbours[b] += boundary.side;
+      regions_[b].neighbours[a] += boundary.side.flipped();
     }
   }
 
-  // Merges region b into region a; returns the survivor (the one with more neighbours, whose
-  // map is kept).
-  int32_t merge(int32_t a, int32_t b) {
-    if (regions_[a].neighbours.size() < regions_[b].neighbours.size()) std::swap(a, b);
+  // Region b joins region a, `a` staying the root; their neighbour maps are left alone.
+  void joinRegions(int32_t a, int32_t b) {
     Region& keep = regions_[a];
     Region& gone = regions_[b];
     region_of_.attach(b, a);
@@ -228,6 +252,16 @@ class Grouper {
     keep.updateLabel();
     keep.instances.add(gone.instances);
     keep.bounds.expand(gone.bounds);
+    gone.alive = false;
+  }
+
+  // Merges region b into region a with their neighbour maps; returns the survivor (the one with
+  // more neighbours, whose map is kept).
+  int32_t merge(int32_t a, int32_t b) {
+    if (regions_[a].neighbours.size() < regions_[b].neighbours.size()) std::swap(a, b);
+    joinRegions(a, b);
+    Region& keep = regions_[a];
+    Region& gone = regions_[b];
     keep.neighbours.erase(b);
     for (auto& [n, side] : gone.neighbours) {
       if (n == a) continue;
@@ -238,7 +272,6 @@ class Grouper {
       theirs.erase(old);
     }
     gone.neighbours.clear();
-    gone.alive = false;
     return a;
   }
 
@@ -309,30 +342,66 @@ class Grouper {
   // A patch smaller than this is a crumb: about ten voxel faces.
   double crumbArea() const { return 10.0 * surface_.voxelSize() * surface_.voxelSize(); }
 
-  // Regions smaller than `threshold` join the larger neighbour they have most steps to, of their
-  // own label first (or only), in rounds: a piece that touched only small ones may touch a large
-  // one after a round. Stage 4 with the minimum object area; before stage 2 with crumbArea().
+  // Regions smaller than `threshold` join the larger neighbour they have most steps to (the
+  // first in boundaries_ on a tie), of their own label first (or only), in rounds: a piece that touched
+  // only small ones may touch a large one after a round. Stage 4 with the minimum object area;
+  // before stage 2 with crumbArea(). Works on the patches' boundaries, not the neighbour maps:
+  // most patches are crumbs, and joining them one by one in the maps costs more than the rest.
   void absorbSmall(double threshold, bool same_label_only) {
+    struct Candidate {
+      int32_t small, large;
+      uint32_t links;
+      uint32_t first;  // index of the pair's first boundary
+    };
+    // A large region stays large: the boundaries between two large ones are dropped for good.
+    std::vector<uint32_t> touching_small(boundaries_.size());
+    std::iota(touching_small.begin(), touching_small.end(), 0u);
+    std::vector<Candidate> candidates;
     for (int round = 0; round < 8; ++round) {
+      candidates.clear();
+      std::size_t kept = 0;
+      for (const uint32_t i : touching_small) {
+        const Boundary& boundary = boundaries_[i];
+        const int32_t a = region_of_.find(boundary.low), b = region_of_.find(boundary.high);
+        if (a == b) continue;
+        const bool small_a = regions_[a].area < threshold, small_b = regions_[b].area < threshold;
+        if (!small_a && !small_b) continue;
+        touching_small[kept++] = i;
+        if (small_a && !small_b) candidates.push_back({a, b, boundary.side.links, i});
+        if (small_b && !small_a) candidates.push_back({b, a, boundary.side.links, i});
+      }
+      touching_small.resize(kept);
+      std::sort(candidates.begin(), candidates.end(), [](const Candidate& x, const Candidate& y) {
+        return std::tie(x.small, x.large, x.first) < std::tie(y.small, y.large, y.first);
+      });
+      // Per small region (its candidates are consecutive), the large one to join.
       std::vector<std::pair<int32_t, int32_t>> moves;  // (small, into)
-      for (int32_t r = 0; r < static_cast<int32_t>(regions_.size()); ++r) {
-        const Region& region = regions_[r];
-        if (!region.alive || region.area >= threshold) continue;
-        int32_t same = -1, any = -1;
-        uint32_t same_links = 0, any_links = 0;
-        for (const auto& [n, side] : region.neighbours) {
-          if (regions_[n].area < threshold) continue;
-          if (regions_[n].label == region.label && side.links > same_links) same = n, same_links = side.links;
-          if (side.links > any_links) any = n, any_links = side.links;
+      for (std::size_t begin = 0; begin < candidates.size();) {
+        const int32_t small = candidates[begin].small;
+        const Candidate* same = nullptr;
+        const Candidate* any = nullptr;
+        std::size_t end = begin;
+        for (; end < candidates.size() && candidates[end].small == small;) {
+          Candidate pair = candidates[end];  // summed over the pair's boundaries
+          for (++end; end < candidates.size() && candidates[end].small == small && candidates[end].large == pair.large;
+               ++end)
+            pair.links += candidates[end].links;
+          candidates[end - 1] = pair;
+          const Candidate* summed = &candidates[end - 1];
+          auto better = [&](const Candidate* best) {
+            return !best || summed->links > best->links ||
+                   (summed->links == best->links && summed->first < best->first);
+          };
+          if (regions_[pair.large].label == regions_[small].label && better(same)) same = summed;
+          if (better(any)) any = summed;
         }
-        const int32_t into = same >= 0 ? same : (same_label_only ? -1 : any);
-        if (into >= 0) moves.emplace_back(r, into);
+        const Candidate* into = same ? same : (same_label_only ? nullptr : any);
+        if (into) moves.emplace_back(small, into->large);
+        begin = end;
       }
       if (moves.empty()) break;
-      for (const auto& [small, into] : moves) {
-        const int32_t a = region_of_.find(small), b = region_of_.find(into);
-        if (a != b) merge(a, b);
-      }
+      // A small region joins a large one, which no move of this round joins elsewhere.
+      for (const auto& [small, into] : moves) joinRegions(into, small);
     }
   }
 
@@ -345,7 +414,7 @@ class Grouper {
     for (int32_t r = 0; r < static_cast<int32_t>(regions_.size()); ++r)
       if (regions_[r].alive) alive.push_back(r);
     std::sort(alive.begin(), alive.end(), [&](int32_t a, int32_t b) { return regions_[a].area > regions_[b].area; });
-    // A merge keeps whichever index has more neighbours: regions are looked up through region_of_.
+    // Earlier merges kept whichever index had more neighbours: regions are looked up through region_of_.
     for (std::size_t i = alive.size(); i-- > 0;) {
       const int32_t small = region_of_.find(alive[i]);
       const Region& piece = regions_[small];
@@ -358,7 +427,7 @@ class Grouper {
         openvdb::CoordBBox grown = whole.bounds;
         grown.expand(margin);
         if (!grown.isInside(piece.bounds)) continue;
-        merge(large, small);
+        joinRegions(large, small);
         break;
       }
     }
@@ -395,10 +464,15 @@ class Grouper {
 
   const SurfaceVoxels& surface_;
   const ObjectParams& params_;
-  std::vector<Link> links_;        // visited twice: found once
-  std::vector<int32_t> patch_of_;  // per surface voxel
-  std::vector<Region> regions_;    // per patch; merged ones are not alive
-  UnionFind region_of_{0};         // patch -> the region it is part of
+  std::vector<Link> links_;  // visited twice: found once
+  struct Boundary {
+    int32_t low, high;  // patches, low < high
+    Side side;          // seen from `low`
+  };
+  std::vector<int32_t> patch_of_;     // per surface voxel
+  std::vector<Boundary> boundaries_;  // between patches, by pair
+  std::vector<Region> regions_;       // per patch; merged ones are not alive
+  UnionFind region_of_{0};            // patch -> the region it is part of
 };
 
 }  // namespace
