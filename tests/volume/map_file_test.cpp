@@ -123,6 +123,7 @@ TEST_F(MapFile, KeepsPanopticInstanceEvidenceAndTheNextInstanceId) {
   ASSERT_TRUE(fused.ok()) << fused.error();
   ASSERT_EQ(fused.value().created, 2u);
   ASSERT_NE(volume.instanceGrid(), nullptr);
+  EXPECT_TRUE(volume.instancesSeenApart(2, 1));  // one segmentation named them as two segments
 
   const fs::path path = folder_ / "panoptic.vdb";
   ASSERT_TRUE(saveMap(volume, legend(), path).ok());
@@ -133,6 +134,8 @@ TEST_F(MapFile, KeepsPanopticInstanceEvidenceAndTheNextInstanceId) {
   expectSameLeaves(volume.instanceGrid()->tree(), map.instanceGrid()->tree());
   EXPECT_EQ(map.nextInstanceId(), volume.nextInstanceId());
   EXPECT_EQ(map.nextInstanceId(), 3u);
+  EXPECT_EQ(map.instancePairsSeenApart(), volume.instancePairsSeenApart());
+  EXPECT_TRUE(map.instancesSeenApart(1, 2));
 }
 
 TEST_F(MapFile, TsdfIsALevelSetOtherToolsCanRead) {

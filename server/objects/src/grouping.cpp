@@ -22,8 +22,6 @@ using detail::UnionFind;
 
 double cosDegrees(double degrees) { return std::cos(degrees * M_PI / 180.0); }
 
-bool instancesConflict(uint32_t a, uint32_t b) { return a != 0 && b != 0 && a != b; }
-
 // A step from one surface to a parallel one beside it, along their normals: across a ledge too
 // narrow to be resolved (a box standing near the edge of a box), not along one surface. Along a
 // surface the step is tangent to both normals, or leaves the surface's layer of voxels by one
@@ -132,6 +130,11 @@ class Grouper {
   }
 
  private:
+  // Two instances are two objects when a segmentation saw them apart.
+  bool instancesConflict(uint32_t a, uint32_t b) const {
+    return a != 0 && b != 0 && a != b && surface_.instancesSeenApart(a, b);
+  }
+
   // Stage 1: smooth, locally convex patches of one label.
   void findPatches() {
     UnionFind voxels(surface_.size());

@@ -92,7 +92,9 @@ SurfaceVoxels SurfaceCache::update(const volume::LabeledVolume& volume) {
   std::vector<SurfaceVoxel> voxels;
   voxels.reserve(total);
   for (const auto* leaf : in_order) voxels.insert(voxels.end(), leaf->begin(), leaf->end());
-  return SurfaceVoxels(volume.voxelSize(), std::move(voxels));
+  SurfaceVoxels surface(volume.voxelSize(), std::move(voxels));
+  surface.setInstancePairsSeenApart(volume.instancePairsSeenApart());
+  return surface;
 }
 
 }  // namespace semfuse::objects

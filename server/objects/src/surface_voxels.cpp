@@ -1,5 +1,6 @@
 #include "semfuse/objects/surface_voxels.hpp"
 
+#include <algorithm>
 #include <utility>
 
 #include <tbb/blocked_range.h>
@@ -32,6 +33,10 @@ SurfaceVoxels::SurfaceVoxels(double voxel_size, std::vector<SurfaceVoxel> voxels
   });
 }
 
+bool SurfaceVoxels::instancesSeenApart(uint32_t a, uint32_t b) const {
+  return std::binary_search(instances_apart_.begin(), instances_apart_.end(), volume::instancePairKey(a, b));
+}
+
 Eigen::Vector3d SurfaceVoxels::position(std::size_t i) const {
   const openvdb::Coord& c = voxels_[i].ijk;
   return Eigen::Vector3d(c.x(), c.y(), c.z()) * voxel_size_;
@@ -55,7 +60,9 @@ SurfaceVoxels extractSurface(const volume::LabeledVolume& volume, const LabelLeg
   std::vector<SurfaceVoxel> voxels;
   voxels.reserve(total);
   for (const auto& leaf : per_leaf) voxels.insert(voxels.end(), leaf.begin(), leaf.end());
-  return SurfaceVoxels(volume.voxelSize(), std::move(voxels));
+  SurfaceVoxels surface(volume.voxelSize(), std::move(voxels));
+  surface.setInstancePairsSeenApart(volume.instancePairsSeenApart());
+  return surface;
 }
 
 }  // namespace semfuse::objects

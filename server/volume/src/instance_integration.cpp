@@ -134,6 +134,12 @@ Result<InstanceStats> integrateInstances(LabeledVolume& volume, const cv::Mat& d
     volume.setNextInstanceId(volume.nextInstanceId() + 1);
     ++stats.created;
   }
+  // The segments' instances are two by two different objects.
+  std::vector<uint32_t> seen;
+  for (const auto& [segment, voxels] : segment_voxels)
+    if (instance_of[segment] != 0) seen.push_back(instance_of[segment]);
+  for (std::size_t i = 0; i < seen.size(); ++i)
+    for (std::size_t j = i + 1; j < seen.size(); ++j) volume.markInstancesSeenApart(seen[i], seen[j]);
 
   // 3. Evidence. Instance leaves are allocated serially, then updated in parallel.
   InstanceGrid& writable = volume.mutableInstanceGrid();

@@ -1,5 +1,6 @@
 #include "semfuse/volume/labeled_volume.hpp"
 
+#include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <utility>
@@ -35,6 +36,16 @@ LabeledVolume::LabeledVolume(const VolumeParams& params)
   }
 }
 
+bool LabeledVolume::instancesSeenApart(uint32_t a, uint32_t b) const {
+  return std::binary_search(instances_apart_.begin(), instances_apart_.end(), instancePairKey(a, b));
+}
+
+void LabeledVolume::markInstancesSeenApart(uint32_t a, uint32_t b) {
+  const uint64_t key = instancePairKey(a, b);
+  const auto at = std::lower_bound(instances_apart_.begin(), instances_apart_.end(), key);
+  if (at == instances_apart_.end() || *at != key) instances_apart_.insert(at, key);
+}
+
 LabeledVolume LabeledVolume::deepCopy() const {
   LabeledVolume copy(params_);
   copy.geometry_ = geometry_->deepCopy();
@@ -42,6 +53,7 @@ LabeledVolume LabeledVolume::deepCopy() const {
   if (label_sidecar_) copy.label_sidecar_ = label_sidecar_->deepCopy();
   if (instances_) copy.instances_ = instances_->deepCopy();
   copy.next_instance_id_ = next_instance_id_;
+  copy.instances_apart_ = instances_apart_;
   if (free_space_) copy.free_space_ = free_space_->deepCopy();
   copy.frames_integrated_ = frames_integrated_;
   copy.leaf_revisions_ = std::make_shared<RevisionTree>(*leaf_revisions_);
@@ -78,6 +90,7 @@ void LabeledVolume::clear() {
   if (label_sidecar_) label_sidecar_->clear();
   instances_.reset();
   next_instance_id_ = 1;
+  instances_apart_.clear();
   if (free_space_) free_space_->clear();
   frames_integrated_ = 0;
   leaf_revisions_->clear();

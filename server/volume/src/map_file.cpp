@@ -4,6 +4,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <fstream>
@@ -39,6 +40,31 @@ Result<std::vector<LabelId>> parseIds(const std::string& text, const std::string
   }
   if (!in.eof()) return makeError(what + ": not a list of label ids");
   return ids;
+}
+
+// Instance pairs seen apart as "low high low high ...".
+std::string joinInstancePairs(const std::vector<uint64_t>& keys) {
+  std::string out;
+  for (uint64_t key : keys)
+    out += (out.empty() ? "" : " ") + std::to_string(key >> 32) + " " + std::to_string(key & 0xFFFFFFFFu);
+  return out;
+}
+
+Result<std::vector<uint64_t>> parseInstancePairs(const std::string& text, uint32_t next_id, const std::string& what) {
+  std::istringstream in(text);
+  std::vector<uint64_t> keys;
+  long low = 0, high = 0;
+  while (in >> low) {
+    if (!(in >> high)) return makeError(what + ": an odd number of instance ids");
+    if (low < 1 || high <= low || high >= static_cast<long>(next_id))
+      return makeError(what + ": pair " + std::to_string(low) + " " + std::to_string(high) +
+                       " is not two instance ids of the map, the lower first");
+    keys.push_back(instancePairKey(static_cast<uint32_t>(low), static_cast<uint32_t>(high)));
+  }
+  if (!in.eof()) return makeError(what + ": not a list of instance ids");
+  std::sort(keys.begin(), keys.end());
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  return keys;
 }
 
 // One label per line: "id r g b name" (the name is the rest of the line).
@@ -157,8 +183,11 @@ openvdb::MetaMap fileMetadata(const LabeledVolume& volume, const LabelLegend& le
     meta.insertMeta("semfuse:label_sidecar_checksum",
                     openvdb::Int64Metadata(static_cast<int64_t>(sidecarChecksum(sidecar->tree()))));
   meta.insertMeta("semfuse:frames_integrated", openvdb::Int64Metadata(static_cast<int64_t>(volume.framesIntegrated())));
-  if (volume.instanceGrid())
+  if (volume.instanceGrid()) {
     meta.insertMeta("semfuse:next_instance_id", openvdb::Int64Metadata(static_cast<int64_t>(volume.nextInstanceId())));
+    meta.insertMeta("semfuse:instances_seen_apart",
+                    openvdb::StringMetadata(joinInstancePairs(volume.instancePairsSeenApart())));
+  }
   meta.insertMeta("semfuse:legend_name", openvdb::StringMetadata(legend.name));
   meta.insertMeta("semfuse:legend", openvdb::StringMetadata(legend_text));
   meta.insertMeta("semfuse:legend_background", openvdb::StringMetadata(joinIds(legend.background_ids)));
@@ -362,8 +391,18 @@ Result<LoadedMap> readMap(const fs::path& path) {
     if (!next_id) return makeError(next_id.error());
     if (next_id.value() < 1 || next_id.value() > static_cast<int64_t>(kMaxInstanceId) + 1)
       return makeError("metadata 'semfuse:next_instance_id' is out of range");
+    // Maps saved before the pairs were kept have none: their instances join where the geometry
+    // does until frames see them apart again.
+    std::vector<uint64_t> apart;
+    if (auto text = required<std::string>(*meta, "semfuse:instances_seen_apart")) {
+      auto parsed = parseInstancePairs(text.value(), static_cast<uint32_t>(next_id.value()),
+                                       "metadata 'semfuse:instances_seen_apart'");
+      if (!parsed) return makeError(parsed.error());
+      apart = std::move(parsed).value();
+    }
     map.volume.setInstanceGrid(instances);
     map.volume.setNextInstanceId(static_cast<uint32_t>(next_id.value()));
+    map.volume.setInstancePairsSeenApart(std::move(apart));
   }
   map.volume.setFramesIntegrated(static_cast<uint64_t>(frames.value()));
   // A consumer of changes that starts at revision 0 rebuilds from every leaf of the loaded map.

@@ -50,6 +50,7 @@ void LabeledVolume::catchUpWith(const LabeledVolume& source) {
   catchUpGrid<InstanceGrid>(source.instances_, instances_, changes.leaves);
   catchUpGrid<FreeSpaceGrid>(source.free_space_, free_space_, changes.leaves);
   next_instance_id_ = source.next_instance_id_;
+  instances_apart_ = source.instances_apart_;
   frames_integrated_ = source.frames_integrated_;
   leaf_revisions_ = std::make_shared<RevisionTree>(*source.leaf_revisions_);
   revision_ = source.revision_;

@@ -3,7 +3,7 @@
 //
 //  1. Patches. Neighbouring surface voxels (surface_voxels.hpp; 26-neighbourhood and two apart
 //     along an axis, so a gap of one voxel does not cut) join one patch when they share a label,
-//     do not name different panoptic instances, their normals differ by less than the smooth
+//     do not name two panoptic instances seen apart, their normals differ by less than the smooth
 //     angle and the step between them is not concave. Patches are smooth pieces: a box's faces,
 //     a sphere, a leg.
 //  2. Convex unions. Two patches of one label join where most steps across their boundary are
@@ -12,8 +12,10 @@
 //  3. Parts and supports. Two groups of one label that meet at a concave crease join when the
 //     crease lies on no upward face of either (a leg under a table top is part of the table), and
 //     stay apart when it lies on one (a box standing on a box is an object of its own). Groups
-//     whose panoptic instances agree join whatever the geometry; groups whose instances differ
-//     never join.
+//     whose panoptic instances agree join whatever the geometry; groups of two instances that a
+//     segmentation named as two segments (SurfaceVoxels::instancesSeenApart) never join. Two
+//     instances never seen apart (a box's face first seen alone, the rest of the box later) are
+//     left to the geometry.
 //  4. Fragments. A group smaller than the minimum area joins the object it has the most links
 //     with, of its own label if it touches one (label noise, a crease strip, a stray leg piece);
 //     one that touches no object stays a fragment.

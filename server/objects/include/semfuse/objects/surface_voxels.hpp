@@ -12,6 +12,7 @@
 // a plane whatever its orientation), its label, label score and panoptic instance.
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include <openvdb/openvdb.h>
@@ -48,9 +49,15 @@ class SurfaceVoxels {
   const openvdb::Int32Tree& indexTree() const { return *index_; }
   int32_t find(const openvdb::Coord& ijk) const { return index_->getValue(ijk); }
 
+  // Two objects: instances a segmentation named as two of its segments
+  // (LabeledVolume::instancesSeenApart), as the map had them.
+  bool instancesSeenApart(uint32_t a, uint32_t b) const;
+  void setInstancePairsSeenApart(std::vector<uint64_t> sorted_keys) { instances_apart_ = std::move(sorted_keys); }
+
  private:
   double voxel_size_;
   std::vector<SurfaceVoxel> voxels_;
+  std::vector<uint64_t> instances_apart_;
   openvdb::Int32Tree::Ptr index_;
 };
 

@@ -24,4 +24,9 @@ inline PackedInstance packInstance(uint32_t id, uint32_t evidence) {
 inline uint32_t instanceIdOf(PackedInstance packed) { return static_cast<uint32_t>(packed) & kMaxInstanceId; }
 inline uint32_t instanceEvidenceOf(PackedInstance packed) { return static_cast<uint32_t>(packed) >> 24; }
 
+// One key per unordered pair of instance ids.
+inline uint64_t instancePairKey(uint32_t a, uint32_t b) {
+  return a < b ? (uint64_t{a} << 32 | b) : (uint64_t{b} << 32 | a);
+}
+
 }  // namespace semfuse::volume

@@ -9,8 +9,9 @@
 // each map instance at most once, when the count is at least a third of the segment's voxels that
 // name any instance and at least kMinInstanceVoxels: a segment that mostly covers voxels another
 // frame called instance 7 is instance 7. A segment left without a match and large enough gets the
-// next map id. Then every such voxel adds one observation of its segment's map instance (the
-// evidence rule of instance_evidence.hpp). Pixels without an instance (0) or with an ignored label
+// next map id. The map instances of the frame's segments are recorded as seen apart, two by two
+// (LabeledVolume::instancesSeenApart). Then every such voxel adds one observation of its segment's
+// map instance (the evidence rule of instance_evidence.hpp). Pixels without an instance (0) or with an ignored label
 // (unlabeled, background) change nothing. Allocates instance leaves, never geometry leaves; stamps
 // the leaves whose evidence changed with a new revision (LabeledVolume::markChanged).
 #include <cstddef>

@@ -100,6 +100,13 @@ class LabeledVolume {
   void setInstanceGrid(InstanceGrid::Ptr grid);
   uint32_t nextInstanceId() const { return next_instance_id_; }
   void setNextInstanceId(uint32_t id) { next_instance_id_ = id; }
+  // Pairs of map instances one segmentation named as two of its segments: two objects, whatever
+  // the geometry says. Instances never seen apart (a box's face first seen alone, the rest of the
+  // box later) are one object where the geometry joins them. Keys instancePairKey(low, high).
+  bool instancesSeenApart(uint32_t a, uint32_t b) const;
+  void markInstancesSeenApart(uint32_t a, uint32_t b);
+  const std::vector<uint64_t>& instancePairsSeenApart() const { return instances_apart_; }  // sorted
+  void setInstancePairsSeenApart(std::vector<uint64_t> sorted_keys) { instances_apart_ = std::move(sorted_keys); }
 
   // Observed free space (free_space.hpp): the voxels a camera saw through, in front of its
   // depth's truncation band (wholly free leaves as level-1 tiles). A voxel is observed when the
@@ -139,6 +146,7 @@ class LabeledVolume {
   LabelSidecarGrid::Ptr label_sidecar_;
   InstanceGrid::Ptr instances_;
   uint32_t next_instance_id_ = 1;
+  std::vector<uint64_t> instances_apart_;  // sorted instancePairKey()s
   FreeSpaceGrid::Ptr free_space_;
   uint64_t frames_integrated_ = 0;
   // Leaf key (origin / 8) -> revision of the leaf's last change. A pointer: OpenVDB trees are not
