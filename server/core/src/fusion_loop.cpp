@@ -285,14 +285,10 @@ void FusionLoop::queueLabelPass(Segmentation segmentation) {
 }
 
 void FusionLoop::runLabelPasses(std::chrono::steady_clock::duration integrating) {
-  // While frames wait, label passes get half the integrations' time on average: each integration
-  // earns them credit, each pass spends what it took. The map keeps two thirds of the thread
-  // however fast segmentations come; with no frame waiting every queued pass runs.
-  label_credit_ = std::min(label_credit_ + integrating / 2, integrating);
+  label_budget_.earn(integrating);
   while (!label_passes_.empty()) {
     const bool frames_wait = !integration_.everyFrame() && integration_.size() > 0;
-    if (!frames_wait) label_credit_ = std::chrono::steady_clock::duration::zero();
-    else if (label_credit_ <= std::chrono::steady_clock::duration::zero()) break;
+    if (!label_budget_.allows(frames_wait)) break;
     const auto start = std::chrono::steady_clock::now();
     const Segmentation segmentation = std::move(label_passes_.front());
     label_passes_.pop_front();
@@ -302,7 +298,7 @@ void FusionLoop::runLabelPasses(std::chrono::steady_clock::duration integrating)
       state_.reject(reason::kUnknownFrame, segmentation.camera_id, "segmentation " + segmentation.segmenter_id,
                     "frame " + frameName(segmentation.camera_id, segmentation.frame_seq) +
                         " left the frame history before its label pass");
-    if (frames_wait) label_credit_ -= std::chrono::steady_clock::now() - start;
+    label_budget_.spend(frames_wait, std::chrono::steady_clock::now() - start);
   }
 }
 

@@ -22,6 +22,7 @@
 #include "frame_queue.hpp"
 #include "fusion_limits.hpp"
 #include "integration_queue.hpp"
+#include "label_pass_budget.hpp"
 #include "mapper.hpp"
 #include "pending_segmentations.hpp"
 #include "server_state.hpp"
@@ -88,8 +89,7 @@ class FusionLoop {
   FrameHistory history_;                   // fusion thread only
   PendingSegmentations pending_;           // fusion thread only
   std::deque<Segmentation> label_passes_;  // fusion thread only, oldest first
-  // Fusion-thread time label passes may still spend while frames wait (runLabelPasses).
-  std::chrono::steady_clock::duration label_credit_{0};
+  LabelPassBudget label_budget_;           // fusion thread only
   std::atomic<size_t> label_passes_size_{0};
   std::atomic<size_t> history_size_{0};
   std::atomic<size_t> pending_size_{0};
