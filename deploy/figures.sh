@@ -2,7 +2,7 @@
 # Regenerates the service's figures under docs/figures/: each file is the output of one
 # benchmark run on this machine, with the command that made it as its first line.
 #
-#   deploy/figures.sh                 all of them (about 15 minutes on 2 cores)
+#   deploy/figures.sh                 all of them (about 25 minutes on 2 cores)
 #   deploy/figures.sh load-robot ...  only the named ones
 #   deploy/figures.sh --no-build ...  use the existing build
 #
@@ -11,6 +11,10 @@
 # load-cores   the robot scenario with the server pinned to 1 core, then to 2 (taskset)
 # track        semfuse-bench track: every case of freiburg1_xyz, redkitchen and the synthetic room, in process
 # track-server deploy/track.sh: the same sequence through the server at 30 Hz
+# objects      semfuse-bench objects: the objects query on the synthetic room (objects-room)
+# esdf         semfuse-bench esdf: the distance field on redkitchen, 5 and 2 cm maps with fields of
+#              their voxels (esdf-5cm, esdf-2cm), the default 1 cm map under 4, 2 and 1 cm fields
+#              (esdf-map-4cm, esdf-map-2cm, esdf-map-1cm)
 # Needs ../shared (or $SEMFUSE_SHARED). Run it with nothing else on the machine.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -21,12 +25,12 @@ while [[ $# -gt 0 ]]; do
   case "$1" in
     --no-build) build=0; shift ;;
     --build-dir) build_dir="$2"; shift 2 ;;
-    -h|--help) sed -n '2,14p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,18p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
     -*) echo "figures: unknown option $1" >&2; exit 2 ;;
     *) names+=("$1"); shift ;;
   esac
 done
-[[ ${#names[@]} -gt 0 ]] || names=(load-robot load-full load-cores track track-server)
+[[ ${#names[@]} -gt 0 ]] || names=(load-robot load-full load-cores track track-server objects esdf)
 
 shared="${SEMFUSE_SHARED:-$root/../shared}"
 kitchen="$shared/data/7scenes-redkitchen"
@@ -57,6 +61,13 @@ for name in "${names[@]}"; do
     track-server) figure track-server bash -c "'$root/deploy/track.sh' --no-build --build-dir '$build_dir' \
                     --out '$root/out/figures-track' >/dev/null && cat '$root/out/figures-track/ate.txt' \
                     '$root/out/figures-track/status.txt'" ;;
+    objects) figure objects-room "$bench" objects ;;
+    esdf)
+      figure esdf-5cm "$bench" esdf --data "$kitchen" --voxel 0.05 --frames 500
+      figure esdf-2cm "$bench" esdf --data "$kitchen" --voxel 0.02 --field-voxel 0.02 --frames 500
+      figure esdf-map-4cm "$bench" esdf --data "$kitchen" --voxel 0.01 --field-voxel 0.04 --frames 500
+      figure esdf-map-2cm "$bench" esdf --data "$kitchen" --voxel 0.01 --field-voxel 0.02 --frames 500
+      figure esdf-map-1cm "$bench" esdf --data "$kitchen" --voxel 0.01 --field-voxel 0.01 --frames 500 ;;
     *) echo "figures: unknown figure $name" >&2; exit 2 ;;
   esac
 done
