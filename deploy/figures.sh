@@ -2,15 +2,18 @@
 # Regenerates the service's figures under docs/figures/: each file is the output of one
 # benchmark run on this machine, with the command that made it as its first line.
 #
-#   deploy/figures.sh                 all of them (about 25 minutes on 2 cores)
+#   deploy/figures.sh                 all of them (about 30 minutes on 2 cores)
 #   deploy/figures.sh load-robot ...  only the named ones
 #   deploy/figures.sh --no-build ...  use the existing build
 #
+# volume       semfuse-bench volume: integration and labels, evidence and bayes rules (volume-evidence, volume-bayes)
+# render       semfuse-bench render: raycast and mesh
 # load-robot   semfuse-bench load --scenario robot: one tracked camera at 30 Hz, its segmenter, light queries
 # load-full    semfuse-bench load --scenario full: 4 cameras (2 tracked), 2 segmenters, heavy queries
 # load-cores   the robot scenario with the server pinned to 1 core, then to 2 (taskset)
 # track        semfuse-bench track: every case of freiburg1_xyz, redkitchen and the synthetic room, in process
 # track-server deploy/track.sh: the same sequence through the server at 30 Hz
+# ingest       semfuse-bench ingest: 1, 2 and 4 posed cameras at 30 Hz, then 2 cameras + raycasts at 10 Hz
 # objects      semfuse-bench objects: the objects query on the synthetic room (objects-room)
 # esdf         semfuse-bench esdf: the distance field on redkitchen, 5 and 2 cm maps with fields of
 #              their voxels (esdf-5cm, esdf-2cm), the default 1 cm map under 4, 2 and 1 cm fields
@@ -25,12 +28,12 @@ while [[ $# -gt 0 ]]; do
   case "$1" in
     --no-build) build=0; shift ;;
     --build-dir) build_dir="$2"; shift 2 ;;
-    -h|--help) sed -n '2,18p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,21p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
     -*) echo "figures: unknown option $1" >&2; exit 2 ;;
     *) names+=("$1"); shift ;;
   esac
 done
-[[ ${#names[@]} -gt 0 ]] || names=(load-robot load-full load-cores track track-server objects esdf)
+[[ ${#names[@]} -gt 0 ]] || names=(volume render load-robot load-full load-cores track track-server ingest objects esdf)
 
 shared="${SEMFUSE_SHARED:-$root/../shared}"
 kitchen="$shared/data/7scenes-redkitchen"
@@ -61,6 +64,11 @@ for name in "${names[@]}"; do
     track-server) figure track-server bash -c "'$root/deploy/track.sh' --no-build --build-dir '$build_dir' \
                     --out '$root/out/figures-track' >/dev/null && cat '$root/out/figures-track/ate.txt' \
                     '$root/out/figures-track/status.txt'" ;;
+    volume)
+      figure volume-evidence "$bench" volume --data "$kitchen" --label-rule evidence
+      figure volume-bayes "$bench" volume --data "$kitchen" --label-rule bayes ;;
+    render) figure render "$bench" render --data "$kitchen" ;;
+    ingest) figure ingest "$bench" ingest --data "$kitchen" ;;
     objects) figure objects-room "$bench" objects ;;
     esdf)
       figure esdf-5cm "$bench" esdf --data "$kitchen" --voxel 0.05 --frames 500
