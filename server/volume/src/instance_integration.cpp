@@ -5,6 +5,7 @@
 #include <cmath>
 #include <tuple>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include <tbb/combinable.h>
@@ -134,12 +135,17 @@ Result<InstanceStats> integrateInstances(LabeledVolume& volume, const cv::Mat& d
     volume.setNextInstanceId(volume.nextInstanceId() + 1);
     ++stats.created;
   }
-  // The segments' instances are two by two different objects.
-  std::vector<uint32_t> seen;
+  // The segments' instances are two by two different objects: the largest segments' pairs, so
+  // that a map cut into thousands of segments costs bounded time and memory.
+  std::vector<std::pair<uint32_t, uint32_t>> seen;  // (voxels, map instance)
   for (const auto& [segment, voxels] : segment_voxels)
-    if (instance_of[segment] != 0) seen.push_back(instance_of[segment]);
+    if (instance_of[segment] != 0) seen.emplace_back(voxels.first, instance_of[segment]);
+  std::sort(seen.begin(), seen.end(), [](const auto& a, const auto& b) { return a > b; });
+  seen.resize(std::min(seen.size(), kMaxSegmentsSeenApart));
+  std::vector<uint64_t> apart;
   for (std::size_t i = 0; i < seen.size(); ++i)
-    for (std::size_t j = i + 1; j < seen.size(); ++j) volume.markInstancesSeenApart(seen[i], seen[j]);
+    for (std::size_t j = i + 1; j < seen.size(); ++j) apart.push_back(instancePairKey(seen[i].second, seen[j].second));
+  volume.markInstancesSeenApart(std::move(apart));
 
   // 3. Evidence. Instance leaves are allocated serially, then updated in parallel.
   InstanceGrid& writable = volume.mutableInstanceGrid();

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <iterator>
 #include <utility>
 
 namespace semfuse::volume {
@@ -40,10 +41,19 @@ bool LabeledVolume::instancesSeenApart(uint32_t a, uint32_t b) const {
   return std::binary_search(instances_apart_.begin(), instances_apart_.end(), instancePairKey(a, b));
 }
 
-void LabeledVolume::markInstancesSeenApart(uint32_t a, uint32_t b) {
-  const uint64_t key = instancePairKey(a, b);
-  const auto at = std::lower_bound(instances_apart_.begin(), instances_apart_.end(), key);
-  if (at == instances_apart_.end() || *at != key) instances_apart_.insert(at, key);
+void LabeledVolume::markInstancesSeenApart(std::vector<uint64_t> pair_keys) {
+  std::sort(pair_keys.begin(), pair_keys.end());
+  pair_keys.erase(std::unique(pair_keys.begin(), pair_keys.end()), pair_keys.end());
+  // Most frames see pairs the map knows: merge only when one is new.
+  const bool any_new = std::any_of(pair_keys.begin(), pair_keys.end(), [&](uint64_t key) {
+    return !std::binary_search(instances_apart_.begin(), instances_apart_.end(), key);
+  });
+  if (!any_new) return;
+  std::vector<uint64_t> merged;
+  merged.reserve(instances_apart_.size() + pair_keys.size());
+  std::set_union(instances_apart_.begin(), instances_apart_.end(), pair_keys.begin(), pair_keys.end(),
+                 std::back_inserter(merged));
+  instances_apart_ = std::move(merged);
 }
 
 LabeledVolume LabeledVolume::deepCopy() const {

@@ -9,11 +9,11 @@
 // each map instance at most once, when the count is at least a third of the segment's voxels that
 // name any instance and at least kMinInstanceVoxels: a segment that mostly covers voxels another
 // frame called instance 7 is instance 7. A segment left without a match and large enough gets the
-// next map id. The map instances of the frame's segments are recorded as seen apart, two by two
-// (LabeledVolume::instancesSeenApart). Then every such voxel adds one observation of its segment's
-// map instance (the evidence rule of instance_evidence.hpp). Pixels without an instance (0) or with an ignored label
-// (unlabeled, background) change nothing. Allocates instance leaves, never geometry leaves; stamps
-// the leaves whose evidence changed with a new revision (LabeledVolume::markChanged).
+// next map id. The map instances of the frame's segments (its kMaxSegmentsSeenApart largest) are
+// recorded as seen apart, two by two (LabeledVolume::instancesSeenApart). Then every such voxel adds one observation of
+// its segment's map instance (the evidence rule of instance_evidence.hpp). Pixels without an instance (0) or with an
+// ignored label (unlabeled, background) change nothing. Allocates instance leaves, never geometry leaves; stamps the
+// leaves whose evidence changed with a new revision (LabeledVolume::markChanged).
 #include <cstddef>
 
 #include <opencv2/core/mat.hpp>
@@ -26,6 +26,8 @@ namespace semfuse::volume {
 
 // Fewer voxels than this do not make or match an instance.
 inline constexpr std::size_t kMinInstanceVoxels = 8;
+// The instances of at most this many of a frame's largest segments are recorded as seen apart.
+inline constexpr std::size_t kMaxSegmentsSeenApart = 128;
 
 struct InstanceStats {
   std::size_t segments = 0;        // segments of the frame that covered enough voxels

@@ -104,7 +104,7 @@ class LabeledVolume {
   // the geometry says. Instances never seen apart (a box's face first seen alone, the rest of the
   // box later) are one object where the geometry joins them. Keys instancePairKey(low, high).
   bool instancesSeenApart(uint32_t a, uint32_t b) const;
-  void markInstancesSeenApart(uint32_t a, uint32_t b);
+  void markInstancesSeenApart(std::vector<uint64_t> pair_keys);  // instancePairKey()s, any order
   const std::vector<uint64_t>& instancePairsSeenApart() const { return instances_apart_; }  // sorted
   void setInstancePairsSeenApart(std::vector<uint64_t> sorted_keys) { instances_apart_ = std::move(sorted_keys); }
 
