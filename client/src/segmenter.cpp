@@ -1,5 +1,6 @@
 #include "semfuse/client/segmenter.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <condition_variable>
 #include <deque>
@@ -43,7 +44,7 @@ struct Segmenter::Impl {
   }
 
   // Receiver thread: takes every frame off the reader as it comes, so that DDS's keep-last
-  // history never fills, and leaves only the newest selected one (still encoded) in the slot.
+  // history never fills, and keeps the newest `queue` selected ones (still encoded).
   void receive() {
     while (!stopping) {
       auto woke = waitset.wait(DDS_MSECS(200));
@@ -65,24 +66,27 @@ struct Segmenter::Impl {
           ++stats.not_selected;
           continue;
         }
-        if (slot) ++stats.skipped;
-        slot = std::move(sample);
+        if (waiting.size() >= std::max<std::size_t>(options.queue, 1)) {
+          waiting.pop_front();
+          ++stats.skipped;
+        }
+        waiting.push_back(std::move(*sample));
         slot_changed.notify_one();
       }
     }
   }
 
   // Worker thread: decode, segment and publish (or hand to the publisher, with a delay) the
-  // newest frame, one at a time.
+  // oldest kept frame, one at a time.
   void work() {
     for (;;) {
       std::optional<dds::Sample<FrameMsg>> next;
       {
         std::unique_lock lock(mutex);
-        slot_changed.wait(lock, [&] { return slot.has_value() || stopping; });
-        if (!slot) return;  // stopping with nothing left to do
-        next = std::move(slot);
-        slot.reset();
+        slot_changed.wait(lock, [&] { return !waiting.empty() || stopping; });
+        if (waiting.empty()) return;  // stopping with nothing left to do
+        next = std::move(waiting.front());
+        waiting.pop_front();
       }
       process(**next);
     }
@@ -160,7 +164,7 @@ struct Segmenter::Impl {
 
   mutable std::mutex mutex;
   std::condition_variable slot_changed;
-  std::optional<dds::Sample<FrameMsg>> slot;
+  std::deque<dds::Sample<FrameMsg>> waiting;  // oldest first
   // Results held back by options.delay. One delay for all, so the oldest is always due first.
   struct Held {
     std::chrono::steady_clock::time_point due;

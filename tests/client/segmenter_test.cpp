@@ -1,8 +1,10 @@
 // Segmenter: frames in, the user function's labels out on rt/semfuse/segmentations, and a slow
-// function skips to the newest frame instead of queueing.
+// function skips to the newest frame, or with a queue keeps every frame until it gets to them.
+#include <algorithm>
 #include <condition_variable>
 #include <mutex>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -83,14 +85,17 @@ TEST_F(SegmenterTest, PublishesTheFunctionsLabelsForEachFrame) {
   EXPECT_EQ(stats.skipped, 0u);
 }
 
-TEST_F(SegmenterTest, ASlowFunctionSkipsToTheNewestFrame) {
+// A function that blocks on frame 0 while four more frames arrive one by one; returns the seqs it
+// segmented, and the stats.
+std::pair<std::vector<uint64_t>, SegmenterStats> segmentBehindASlowFirstFrame(const dds::Participant& participant,
+                                                                              std::size_t queue) {
   std::mutex mutex;
   std::condition_variable changed;
   bool inside = false;
   bool release = false;
   std::vector<uint64_t> segmented;
   // The first call blocks until the test has delivered four more frames.
-  Segmenter segmenter(participant_,
+  Segmenter segmenter(participant,
                       [&](const Frame& f) -> Result<Segmentation> {
                         std::unique_lock lock(mutex);
                         segmented.push_back(f.seq);
@@ -101,34 +106,45 @@ TEST_F(SegmenterTest, ASlowFunctionSkipsToTheNewestFrame) {
                         s.labels = cv::Mat(f.depth.size(), CV_16UC1, cv::Scalar(3));
                         return s;
                       },
-                      {"slow", "", 1, std::chrono::milliseconds(0)});
+                      {"slow", "", 1, std::chrono::milliseconds(0), queue});
   segmenter.start();
-  CameraPublisher camera(participant_, {DepthEncoding::kRaw16, ColorEncoding::kNone, 90});
-  ASSERT_TRUE(camera.waitForReader(std::chrono::seconds(15)));
+  CameraPublisher camera(participant, {DepthEncoding::kRaw16, ColorEncoding::kNone, 90});
+  EXPECT_TRUE(camera.waitForReader(std::chrono::seconds(15)));
 
-  ASSERT_TRUE(camera.publish(flatFrame(0, 1.0F)).ok());
+  EXPECT_TRUE(camera.publish(flatFrame(0, 1.0F)).ok());
   {
     std::unique_lock lock(mutex);
-    ASSERT_TRUE(changed.wait_for(lock, std::chrono::seconds(20), [&] { return inside; }));
+    EXPECT_TRUE(changed.wait_for(lock, std::chrono::seconds(20), [&] { return inside; }));
   }
   // One at a time: the reader keeps only the 2 newest frames (the frames QoS), so a burst could
   // lose frames before the receiving thread takes them, which is not what this test is about.
   for (uint64_t seq = 1; seq <= 4; ++seq) {
-    ASSERT_TRUE(camera.publish(flatFrame(seq, 1.0F)).ok());
-    ASSERT_TRUE(eventually([&] { return segmenter.stats().received == seq + 1; }));
+    EXPECT_TRUE(camera.publish(flatFrame(seq, 1.0F)).ok());
+    EXPECT_TRUE(eventually([&] { return segmenter.stats().received == seq + 1; }));
   }
   {
     std::lock_guard lock(mutex);
     release = true;
   }
   changed.notify_all();
-  ASSERT_TRUE(eventually([&] { return segmenter.stats().published == 2; }));
+  EXPECT_TRUE(eventually([&] { return segmenter.stats().published == std::min<std::size_t>(queue, 4) + 1; }));
   segmenter.stop();
 
+  return {segmented, segmenter.stats()};
+}
+
+TEST_F(SegmenterTest, ASlowFunctionSkipsToTheNewestFrame) {
+  const auto [segmented, stats] = segmentBehindASlowFirstFrame(participant_, 1);
   EXPECT_EQ(segmented, (std::vector<uint64_t>{0, 4}));
-  const SegmenterStats stats = segmenter.stats();
   EXPECT_EQ(stats.skipped, 3u);
   EXPECT_EQ(stats.segmented, 2u);
+}
+
+TEST_F(SegmenterTest, AQueueKeepsEveryFrameForASlowFunction) {
+  const auto [segmented, stats] = segmentBehindASlowFirstFrame(participant_, 4);
+  EXPECT_EQ(segmented, (std::vector<uint64_t>{0, 1, 2, 3, 4}));
+  EXPECT_EQ(stats.skipped, 0u);
+  EXPECT_EQ(stats.segmented, 5u);
 }
 
 // A delay holds each result, not the worker: the next frame is segmented while the first result

@@ -22,7 +22,8 @@ run() {  # run NAME [segmenter options...]: the saved map's objects scored into 
   launch "$name-server" "$server_exe" --domain-id "$domain" --legend synthetic --voxel-size 0.03 \
     --truncation 0.12 --map "$work/$name.vdb" --autosave-period 0 --queue-per-camera 256 --max-queue-wait 0
   local server_pid=$last_pid
-  launch "$name-segmenter" "$segmenter_exe" --domain-id "$domain" --backend gt --idle-exit 3 "$@"
+  # Every frame labelled however busy the machine: the segmenter queues them all.
+  launch "$name-segmenter" "$segmenter_exe" --domain-id "$domain" --backend gt --idle-exit 3 --queue "$frames" "$@"
   local segmenter_pid=$last_pid
   wait_for 20 grep -q "running as" "$work/logs/$name-segmenter.log" || fail "$name: the segmenter did not start"
   "$camera_exe" --domain-id "$domain" --source synthetic --frames "$frames" --rate 10 --wait-server 20 \

@@ -71,6 +71,11 @@ void addOptions(CLI::App& app, Options& o) {
   app.add_option("--every", o.segmenter.every, "segment every Nth frame")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
+  app.add_option("--queue", o.segmenter.queue,
+                 "frames kept while the model is busy, oldest given up first (1: the newest only; a replay that "
+                 "must label every frame: as many as it sends)")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{4096}))
+      ->capture_default_str();
   app.add_option("--delay", o.delay_ms, "milliseconds to hold each result before publishing")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();

@@ -34,12 +34,15 @@ struct SegmenterOptions {
   // Hold each result this long before publishing (a late model); the worker goes on with the
   // next frame meanwhile.
   std::chrono::milliseconds delay{0};
+  // Selected frames kept while the function is busy, oldest given up first: 1 segments the newest
+  // frame (live cameras); a replay that must label every frame keeps as many as it sends.
+  std::size_t queue = 1;
 };
 
 struct SegmenterStats {
   uint64_t received = 0;      // frames seen on the topic
   uint64_t not_selected = 0;  // left out by camera_id or `every`
-  uint64_t skipped = 0;       // replaced by a newer frame before the worker got to them
+  uint64_t skipped = 0;       // given up for newer frames (the queue was full) before the worker got to them
   uint64_t segmented = 0;     // the function succeeded
   uint64_t published = 0;
   uint64_t failed = 0;  // undecodable frame, function error or write error
