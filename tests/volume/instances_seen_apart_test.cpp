@@ -28,7 +28,8 @@ struct SeenApartPlane {
     cv::Mat instances(k.height, k.width, CV_16UC1);
     for (int v = 0; v < k.height; ++v)
       for (int u = 0; u < k.width; ++u)
-        instances.at<uint16_t>(v, u) = static_cast<uint16_t>(1 + (u * columns / k.width) + columns * (v * rows / k.height));
+        instances.at<uint16_t>(v, u) =
+            static_cast<uint16_t>(1 + (u * columns / k.width) + columns * (v * rows / k.height));
     return instances;
   }
 };
