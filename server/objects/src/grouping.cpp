@@ -130,6 +130,14 @@ class Grouper {
   }
 
  private:
+  // The step from p to q = p + linkOffsets()[k] turns concave (or crosses a ledge): the normals
+  // turn towards each other along it.
+  bool isConcaveStep(const SurfaceVoxel& p, const SurfaceVoxel& q, std::size_t k) const {
+    const detail::LinkOffset& offset = detail::linkOffsets()[k];
+    return (q.normal - p.normal).dot(offset.direction) < -static_cast<float>(params_.concavity_tolerance) ||
+           isLedgeStep(p.normal, q.normal, offset.offset);
+  }
+
   // Two instances are two objects when a segmentation saw them apart.
   bool instancesConflict(uint32_t a, uint32_t b) const {
     return a != 0 && b != 0 && a != b && surface_.instancesSeenApart(a, b);
@@ -147,15 +155,12 @@ class Grouper {
     std::vector<uint32_t> patch_instance(surface_.size());
     for (std::size_t i = 0; i < surface_.size(); ++i) patch_instance[i] = surface_[i].instance;
     const float cos_smooth = static_cast<float>(cosDegrees(params_.smooth_angle_deg));
-    const float tolerance = static_cast<float>(params_.concavity_tolerance);
-    const auto& offsets = detail::linkOffsets();
     for (const auto& [p, q, k] : links_) {
       const SurfaceVoxel& a = surface_[p];
       const SurfaceVoxel& b = surface_[q];
       if (a.label != b.label || instancesConflict(a.instance, b.instance)) continue;
       if (a.normal.dot(b.normal) < cos_smooth) continue;
-      const Eigen::Vector3f& d = offsets[k].direction;
-      if ((b.normal - a.normal).dot(d) < -tolerance || isLedgeStep(a.normal, b.normal, offsets[k].offset)) continue;
+      if (isConcaveStep(a, b, k)) continue;
       const int32_t rp = voxels.find(p), rq = voxels.find(q);
       if (rp == rq) continue;
       const Eigen::Vector3f sum = normal_sum[rp] + normal_sum[rq];
@@ -224,9 +229,7 @@ class Grouper {
     const SurfaceVoxel& vp = surface_[link.p];
     const SurfaceVoxel& vq = surface_[link.q];
     if (vp.label == vq.label) {
-      const auto& offset = detail::linkOffsets()[link.k];
-      step.concave = (vq.normal - vp.normal).dot(offset.direction) < -static_cast<float>(params_.concavity_tolerance) ||
-                     isLedgeStep(vp.normal, vq.normal, offset.offset);
+      step.concave = isConcaveStep(vp, vq, link.k);
       step.mine = vp.normal;
       step.theirs = vq.normal;
     }
@@ -377,30 +380,28 @@ class Grouper {
       std::sort(candidates.begin(), candidates.end(), [](const Candidate& x, const Candidate& y) {
         return std::tie(x.small, x.large, x.first) < std::tie(y.small, y.large, y.first);
       });
-      // Per small region (its candidates are consecutive), the large one to join.
+      // Summed per pair of regions (a pair's boundaries are consecutive, its first one first).
+      std::vector<Candidate> pairs;
+      for (const Candidate& c : candidates) {
+        if (!pairs.empty() && pairs.back().small == c.small && pairs.back().large == c.large)
+          pairs.back().links += c.links;
+        else pairs.push_back(c);
+      }
+      // Per small region (its pairs are consecutive), the large one to join.
+      auto better = [](const Candidate& c, const Candidate* best) {
+        return !best || c.links > best->links || (c.links == best->links && c.first < best->first);
+      };
       std::vector<std::pair<int32_t, int32_t>> moves;  // (small, into)
-      for (std::size_t begin = 0; begin < candidates.size();) {
-        const int32_t small = candidates[begin].small;
+      for (std::size_t begin = 0, end = 0; begin < pairs.size(); begin = end) {
+        const int32_t small = pairs[begin].small;
         const Candidate* same = nullptr;
         const Candidate* any = nullptr;
-        std::size_t end = begin;
-        for (; end < candidates.size() && candidates[end].small == small;) {
-          Candidate pair = candidates[end];  // summed over the pair's boundaries
-          for (++end; end < candidates.size() && candidates[end].small == small && candidates[end].large == pair.large;
-               ++end)
-            pair.links += candidates[end].links;
-          candidates[end - 1] = pair;
-          const Candidate* summed = &candidates[end - 1];
-          auto better = [&](const Candidate* best) {
-            return !best || summed->links > best->links ||
-                   (summed->links == best->links && summed->first < best->first);
-          };
-          if (regions_[pair.large].label == regions_[small].label && better(same)) same = summed;
-          if (better(any)) any = summed;
+        for (end = begin; end < pairs.size() && pairs[end].small == small; ++end) {
+          if (regions_[pairs[end].large].label == regions_[small].label && better(pairs[end], same)) same = &pairs[end];
+          if (better(pairs[end], any)) any = &pairs[end];
         }
         const Candidate* into = same ? same : (same_label_only ? nullptr : any);
         if (into) moves.emplace_back(small, into->large);
-        begin = end;
       }
       if (moves.empty()) break;
       // A small region joins a large one, which no move of this round joins elsewhere.

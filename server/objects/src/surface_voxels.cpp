@@ -1,6 +1,5 @@
 #include "semfuse/objects/surface_voxels.hpp"
 
-#include <algorithm>
 #include <utility>
 
 #include <tbb/blocked_range.h>
@@ -34,7 +33,7 @@ SurfaceVoxels::SurfaceVoxels(double voxel_size, std::vector<SurfaceVoxel> voxels
 }
 
 bool SurfaceVoxels::instancesSeenApart(uint32_t a, uint32_t b) const {
-  return std::binary_search(instances_apart_.begin(), instances_apart_.end(), volume::instancePairKey(a, b));
+  return volume::hasInstancePair(instances_apart_, a, b);
 }
 
 Eigen::Vector3d SurfaceVoxels::position(std::size_t i) const {

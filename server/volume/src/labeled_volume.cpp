@@ -37,9 +37,7 @@ LabeledVolume::LabeledVolume(const VolumeParams& params)
   }
 }
 
-bool LabeledVolume::instancesSeenApart(uint32_t a, uint32_t b) const {
-  return std::binary_search(instances_apart_.begin(), instances_apart_.end(), instancePairKey(a, b));
-}
+bool LabeledVolume::instancesSeenApart(uint32_t a, uint32_t b) const { return hasInstancePair(instances_apart_, a, b); }
 
 void LabeledVolume::markInstancesSeenApart(std::vector<uint64_t> pair_keys) {
   std::sort(pair_keys.begin(), pair_keys.end());

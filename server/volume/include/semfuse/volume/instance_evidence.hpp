@@ -6,7 +6,9 @@
 // named another instance; the id changes when it reaches zero, as Algorithm 1 does for labels).
 // All-zero is no evidence. A segmenter's instance ids are its own and may change from frame to
 // frame; integrateInstances() (instance_integration.hpp) matches them to the map's ids by overlap.
+#include <algorithm>
 #include <cstdint>
+#include <vector>
 
 #include <openvdb/openvdb.h>
 
@@ -27,6 +29,10 @@ inline uint32_t instanceEvidenceOf(PackedInstance packed) { return static_cast<u
 // One key per unordered pair of instance ids.
 inline uint64_t instancePairKey(uint32_t a, uint32_t b) {
   return a < b ? (uint64_t{a} << 32 | b) : (uint64_t{b} << 32 | a);
+}
+// Whether the pair of a and b is among sorted pair keys.
+inline bool hasInstancePair(const std::vector<uint64_t>& sorted_keys, uint32_t a, uint32_t b) {
+  return std::binary_search(sorted_keys.begin(), sorted_keys.end(), instancePairKey(a, b));
 }
 
 }  // namespace semfuse::volume
