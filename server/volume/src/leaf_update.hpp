@@ -131,6 +131,7 @@ KernelCounts updateLeafScalar(const LeafPair& leaf, const FrameView& frame, cons
   KernelCounts counts;
   PackedVoxel* voxels = leaf.geometry->buffer().data();
   PackedColor* colors = kColor ? leaf.color->buffer().data() : nullptr;
+  PackedLabelSidecar* sidecars = kLabels && leaf.label_sidecar ? leaf.label_sidecar->buffer().data() : nullptr;
   auto& active = leaf.geometry->getValueMask();
   const LeafInCamera cam = leafInCamera(*leaf.geometry, frame, config.voxel_size);
   const Eigen::Vector3f& step_z = cam.step_z;
@@ -203,7 +204,7 @@ KernelCounts updateLeafScalar(const LeafPair& leaf, const FrameView& frame, cons
           continue;  // late labels only refine voxels that geometry has seen (weight > 0)
         }
         if (kLabels && sdf < config.truncation) {  // |d - z| < truncation: the frame sees this voxel
-          PackedLabelSidecar* sidecar = leaf.label_sidecar ? leaf.label_sidecar->buffer().data() + offset : nullptr;
+          PackedLabelSidecar* sidecar = sidecars ? sidecars + offset : nullptr;
           if (applyPixelLabel(bits, sidecar, frame, ui, vi, config)) ++counts.labeled;
         }
         voxels[offset] = static_cast<PackedVoxel>(bits);

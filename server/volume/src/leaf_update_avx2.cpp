@@ -264,6 +264,8 @@ SEMFUSE_AVX2 KernelCounts updateLeaf(const LeafPair& leaf, const FrameView& fram
   const bool vector_shortcut =
       labels_gatherable && leaf.label_sidecar != nullptr &&
       (rule.rule == LabelRule::kMajority || (rule.rule == LabelRule::kBayes && rule.bayes_increments != nullptr));
+  // Once per leaf, as the geometry buffer: LeafBuffer::data() checks whether it is loaded.
+  PackedLabelSidecar* const sidecars = leaf.label_sidecar ? leaf.label_sidecar->buffer().data() : nullptr;
 
   for (int x = 0; x < kLeafDim; ++x) {
     uint64_t active_bits = 0;
@@ -358,8 +360,8 @@ SEMFUSE_AVX2 KernelCounts updateLeaf(const LeafPair& leaf, const FrameView& fram
         } else if (label_lanes != 0) {  // the top-5 rules, with the sidecar
           unsigned per_voxel = label_lanes;
           if (vector_shortcut)
-            per_voxel = topLabelsShortcut(bits.high, leaf.label_sidecar->buffer().data() + row_offset, label_lanes, ui,
-                                          vi, frame, config, counts.labeled);
+            per_voxel =
+                topLabelsShortcut(bits.high, sidecars + row_offset, label_lanes, ui, vi, frame, config, counts.labeled);
           if (per_voxel != 0) {  // the lanes the shortcut does not settle, one by one
             alignas(32) uint32_t low[kLeafDim], high[kLeafDim];
             alignas(32) int col[kLeafDim], row[kLeafDim];
@@ -370,8 +372,7 @@ SEMFUSE_AVX2 KernelCounts updateLeaf(const LeafPair& leaf, const FrameView& fram
             for (unsigned lanes = per_voxel; lanes != 0; lanes &= lanes - 1) {
               const int z = __builtin_ctz(lanes);
               uint64_t voxel = uint64_t{low[z]} | (uint64_t{high[z]} << 32);
-              PackedLabelSidecar* sidecar =
-                  leaf.label_sidecar ? leaf.label_sidecar->buffer().data() + (row_offset | z) : nullptr;
+              PackedLabelSidecar* sidecar = sidecars ? sidecars + (row_offset | z) : nullptr;
               if (applyPixelLabel(voxel, sidecar, frame, col[z], row[z], config)) {
                 high[z] = static_cast<uint32_t>(voxel >> 32);
                 ++counts.labeled;
