@@ -147,6 +147,7 @@ int runObjectsBench(const ObjectsBenchOptions& o) {
   objects::ObjectParams params;
   params.up_from_floor = true;
   Timings first_query, changed_query, surface_only;
+  Timings changed_surface, changed_grouping, changed_ids, changed_figures;
   std::size_t surface_voxels = 0, objects = 0, fragments = 0, scanned = 0, leaves = map.allocatedLeaves();
   objects::ObjectTracker incremental(params, legend, map.voxelSize());
   incremental.objectsOf(std::make_shared<const volume::LabeledVolume>(map.deepCopy()));  // untimed: fills the cache
@@ -170,6 +171,11 @@ int runObjectsBench(const ObjectsBenchOptions& o) {
     incremental.objectsOf(changed_snapshot);
     changed_query.add(changed_watch.elapsedMs());
     scanned = incremental.lastScannedLeaves();
+    const objects::UpdateTimes times = incremental.lastUpdateTimes();
+    changed_surface.add(times.surface);
+    changed_grouping.add(times.grouping);
+    changed_ids.add(times.ids);
+    changed_figures.add(times.figures);
   }
   Table table("objects query, " + what + ", " + formatNumber(map.voxelSize() * 100, 0) + " cm voxels");
   table.add("surface voxels", std::to_string(surface_voxels));
@@ -180,6 +186,10 @@ int runObjectsBench(const ObjectsBenchOptions& o) {
   table.addMs("query after " + formatNumber(100 * o.changed, 0) + " % of the leaves changed", changed_query,
               "target <= 100 ms");
   table.add("leaves re-scanned / all", std::to_string(scanned) + " / " + std::to_string(leaves));
+  table.addMs("  of which surface (cache + changed leaves)", changed_surface);
+  table.addMs("  grouping", changed_grouping);
+  table.addMs("  ids", changed_ids);
+  table.addMs("  figures and frames", changed_figures);
   table.add("load average", formatNumber(loadAverage(), 2));
   table.print();
   return 0;

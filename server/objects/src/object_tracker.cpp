@@ -77,12 +77,23 @@ std::shared_ptr<const ObjectSet> ObjectTracker::objectsOf(const std::shared_ptr<
     return last_;
   }
 
+  using Clock = std::chrono::steady_clock;
+  const auto msSince = [](Clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  };
+  auto start = Clock::now();
   const SurfaceVoxels surface = surface_cache_.update(*map);
+  last_times_.surface = msSince(start);
+  start = Clock::now();
   ObjectParams params = params_;
   if (params.up_from_floor)
     if (auto up = upFromFloor(surface, legend_)) params.up = *up;
   const Grouping grouping = groupSurface(surface, params);
+  last_times_.grouping = msSince(start);
+  start = Clock::now();
   const ObjectRegistry::Assignment assignment = registry_.assign(surface, grouping);
+  last_times_.ids = msSince(start);
+  start = Clock::now();
   std::vector<ObjectFigures> figures = measureGroups(surface, grouping, params.up);
 
   auto set = std::make_shared<ObjectSet>();
@@ -108,6 +119,7 @@ std::shared_ptr<const ObjectSet> ObjectTracker::objectsOf(const std::shared_ptr<
     if (listener_) listener_(events);
   }
   set->update = updates_;
+  last_times_.figures = msSince(start);
   last_ = set;
   last_map_ = map;
   last_revision_ = map->revision();

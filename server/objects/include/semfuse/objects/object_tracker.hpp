@@ -51,6 +51,14 @@ struct ObjectSet {
 // when there is at least 0.25 m^2 of it and its normals agree (mean length >= 0.7).
 std::optional<Eigen::Vector3d> upFromFloor(const SurfaceVoxels& surface, const LabelLegend& legend);
 
+// Where the last update's time went, milliseconds of wall clock: for the benchmark.
+struct UpdateTimes {
+  double surface = 0.0;   // the surface from the cache and the changed leaves
+  double grouping = 0.0;  // groupSurface(), with the up from the floor
+  double ids = 0.0;       // matching to the last update's objects
+  double figures = 0.0;   // measureGroups() and the frames that saw each object
+};
+
 class ObjectTracker {
  public:
   static constexpr std::size_t kFramesPerObject = 16;
@@ -76,6 +84,10 @@ class ObjectTracker {
     std::lock_guard lock(mutex_);
     return surface_cache_.lastScannedLeaves();
   }
+  UpdateTimes lastUpdateTimes() const {
+    std::lock_guard lock(mutex_);
+    return last_times_;
+  }
 
  private:
   ObjectParams params_;
@@ -91,6 +103,7 @@ class ObjectTracker {
   uint64_t last_views_ = 0;  // the view index's version the last set's frames were taken at
   std::shared_ptr<const ObjectSet> last_;
   uint64_t updates_ = 0;
+  UpdateTimes last_times_;
   std::function<void(const ObjectEvents&)> listener_;
 };
 
