@@ -166,6 +166,12 @@ const bool load_registered = registerBench(
       scenario.raycast = command.add_option("--raycast-rate", options->raycast_hz, "raycasts per second (0 = none)");
       scenario.queries = command.add_option("--query-rate", options->query_hz,
                                             "labels_at, objects and distance queries per second each (0 = none)");
+      command
+          .add_option("--objects-max-age", options->objects_max_age_s,
+                      "seconds: the objects query takes those the server grouped in the background from a map "
+                      "this old (0 = grouped from the map as it is, on the query)")
+          ->capture_default_str()
+          ->check(CLI::Range(0.0, 60.0));
       command.add_option("--query-timeout", options->query_timeout_s, "seconds a query may wait for its reply")
           ->capture_default_str();
       command.add_option("--follow-map", options->follow_map, "run a map follower (as a viewer)")

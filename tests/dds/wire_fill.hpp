@@ -328,6 +328,7 @@ inline void fill(semfuse_srv_dds__Objects_Request_& m, Filler& f) {
   fill(m.near, f);
   m.radius = f.f64();
   m.include_fragments = true;
+  m.max_age = f.f64();
 }
 inline void fill(semfuse_srv_dds__Objects_Response_& m, Filler& f) {
   fillReplyHeader(m, f);

@@ -109,6 +109,11 @@ def test_objects_are_the_two_labeled_halves(wall) -> None:
     assert all(o.fragment for o in with_fragments if o.id not in whole)
     with pytest.raises(ValueError, match="radius"):
         client.objects(near=[0.0, 0.0, WALL_Z])
+    # The map no longer changes: what a minute-old grouping will do is the same two halves.
+    recent = client.objects(max_age=60.0)
+    assert sorted((o.id, o.label) for o in recent) == sorted((o.id, o.label) for o in client.objects())
+    with pytest.raises(ValueError, match="max_age"):
+        client.objects(max_age=-1.0)
 
 
 def test_object_events_tell_which_objects_appeared(wall) -> None:

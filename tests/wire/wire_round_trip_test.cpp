@@ -311,14 +311,17 @@ TEST(WireRoundTrip, ServiceRequests) {
   EXPECT_EQ(objects.min_voxels, 250u);
   EXPECT_FALSE(objects.near.has_value());
   EXPECT_FALSE(objects.include_fragments);
+  EXPECT_EQ(objects.max_age_s, 0.0);
   asked.near = Eigen::Vector3d(1.0, -2.5, 0.75);
   asked.radius = 0.4;
   asked.include_fragments = true;
+  asked.max_age_s = 1.5;
   const ObjectsRequest near = requestRoundTrip<ObjectsCodec>(asked);
   ASSERT_TRUE(near.near.has_value());
   EXPECT_EQ(*near.near, *asked.near);
   EXPECT_EQ(near.radius, 0.4);
   EXPECT_TRUE(near.include_fragments);
+  EXPECT_EQ(near.max_age_s, 1.5);
 
   const MeshRequest first = requestRoundTrip<MeshCodec>({box, 0, 0, 0});
   ASSERT_TRUE(first.box.has_value());

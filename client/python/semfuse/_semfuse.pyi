@@ -492,10 +492,12 @@ class MapClient:
     def region(self, box_min: ArrayLike, box_max: ArrayLike, timeout: float | None = None) -> RegionSummary:
         """Label surface areas and occupancy inside the box."""
     def objects(self, label: int = 0, min_voxels: int = 0, near: ArrayLike | None = None, radius: float = 0.0,
-                include_fragments: bool = False, timeout: float | None = None) -> list[ObjectInstance]:
+                include_fragments: bool = False, max_age: float = 0.0,
+                timeout: float | None = None) -> list[ObjectInstance]:
         """Connected labeled surfaces of `label` (0: every label) with at least `min_voxels` voxels; with
         `near`, only those within `radius` metres of that point; `include_fragments` adds the pieces too
-        small to be objects."""
+        small to be objects; with `max_age` (seconds) the objects the server grouped in the background
+        from a map at most that much older will do."""
     def mesh(self, box_min: ArrayLike | None = None, box_max: ArrayLike | None = None,
              timeout: float | None = None) -> Mesh:
         """The labeled mesh of the map (or of the box); the timeout applies to each chunk."""

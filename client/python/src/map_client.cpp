@@ -174,8 +174,11 @@ class MapClient {
   }
 
   std::vector<client::ObjectInstance> objects(LabelId label, uint32_t min_voxels, const py::object& near, double radius,
-                                              bool include_fragments, const std::optional<double>& timeout) {
+                                              bool include_fragments, double max_age,
+                                              const std::optional<double>& timeout) {
+    if (!(max_age >= 0.0) || !std::isfinite(max_age)) throw py::value_error("max_age must be 0 or more seconds");
     client::ObjectsRequest request;
+    request.max_age_s = max_age;
     request.label = label;
     request.min_voxels = min_voxels;
     request.include_fragments = include_fragments;
@@ -366,10 +369,12 @@ The voxels at (N, 3) world points: a dict of (N,) arrays ``observed`` (bool), ``
            "Label surface areas and occupancy inside the box [box_min, box_max] (world frame, metres).")
       .def("objects", &MapClient::objects, py::arg("label") = 0, py::arg("min_voxels") = 0,
            py::arg("near") = py::none(), py::arg("radius") = 0.0, py::arg("include_fragments") = false,
-           py::arg("timeout") = py::none(), R"doc(
+           py::arg("max_age") = 0.0, py::arg("timeout") = py::none(), R"doc(
 Connected labeled surfaces of `label` (0: of every label) with at least `min_voxels` voxels; with
 `near` (a world point) only those whose surface comes within `radius` metres of it; with
-`include_fragments` also the pieces too small to be objects.
+`include_fragments` also the pieces too small to be objects. With `max_age` (seconds) the objects
+the server keeps up to date in the background will do when grouped from a map at most that much
+older: an answer at once while the map grows.
 )doc")
       .def("mesh", &MapClient::mesh, py::arg("box_min") = py::none(), py::arg("box_max") = py::none(),
            py::arg("timeout") = py::none(),

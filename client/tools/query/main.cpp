@@ -57,6 +57,7 @@ struct Options {
   std::vector<double> near;
   double radius = 0.5;
   bool fragments = false;
+  double max_age_s = 0.0;
   // mesh
   uint32_t object_id = 0;
   // status
@@ -190,6 +191,7 @@ class Query {
     if (!o_.near.empty()) request.near = Eigen::Vector3d(o_.near[0], o_.near[1], o_.near[2]);
     request.radius = o_.radius;
     request.include_fragments = o_.fragments;
+    request.max_age_s = o_.max_age_s;
     auto objects = map_.objects(request, timeout_);
     if (!objects) return reportFailure(objects);
     std::cout << (o_.json ? tools::objectsJson(objects.value(), legend())
@@ -387,6 +389,12 @@ int main(int argc, char** argv) {
   objects->add_option("--near", o.near, "only objects whose surface comes within --radius of X Y Z")->expected(3);
   objects->add_option("--radius", o.radius, "metres, with --near")->check(CLI::PositiveNumber)->capture_default_str();
   objects->add_flag("--fragments", o.fragments, "also the pieces too small to be objects");
+  objects
+      ->add_option("--max-age", o.max_age_s,
+                   "seconds: the objects the server keeps up to date in the background will do when grouped from "
+                   "a map at most this much older (an answer at once while the map grows; 0 = the map as it is)")
+      ->check(CLI::Range(0.0, 3600.0))
+      ->capture_default_str();
   objects->add_flag("--json", o.json, "print JSON");
 
   auto* mesh = app.add_subcommand("mesh", "labeled mesh as a PLY file");

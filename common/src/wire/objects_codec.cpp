@@ -10,6 +10,7 @@ void ObjectsCodec::encodeRequest(const Request& request, WireRequest& out) {
   out.near = detail::toPoint(request.near.value_or(Eigen::Vector3d::Zero()));
   out.radius = request.radius;
   out.include_fragments = request.include_fragments;
+  out.max_age = request.max_age_s;
 }
 
 Result<ObjectsRequest> ObjectsCodec::decodeRequest(const WireRequest& wire) {
@@ -19,6 +20,7 @@ Result<ObjectsRequest> ObjectsCodec::decodeRequest(const WireRequest& wire) {
   if (wire.use_near) request.near = detail::fromPoint(wire.near);
   request.radius = wire.radius;
   request.include_fragments = wire.include_fragments;
+  request.max_age_s = wire.max_age;
   return request;
 }
 

@@ -28,7 +28,10 @@ struct LoadOptions {
   double segmenter_hz = 10.0;
   double raycast_hz = 10.0;  // 640x480 depth + normal + label from where camera 0 is
   double query_hz = 5.0;     // labels_at, objects and distance each
-  bool follow_map = true;    // one client::MapFollower, as a viewer
+  // The objects query accepts those grouped in the background from a map this many seconds old, as
+  // a robot that wants them now rather than exact to the last frame would (0 = the map as it is).
+  double objects_max_age_s = 2.0;
+  bool follow_map = true;  // one client::MapFollower, as a viewer
   double query_timeout_s = 10.0;
   int domain = -1;  // -1 = derived from the pid
   bool check = false;

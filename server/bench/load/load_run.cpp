@@ -9,6 +9,7 @@
 #include <thread>
 #include <utility>
 
+#include "bench_support.hpp"
 #include "depth_band_segmenter.hpp"
 #include "ingest/camera_stream.hpp"
 #include "ingest/interrupt.hpp"
@@ -117,10 +118,14 @@ std::vector<std::unique_ptr<QueryLoop>> LoadRun::makeQueries(const std::atomic<s
     loops.push_back(std::make_unique<QueryLoop>(
         participant_, "labels_at 200 points", options_.query_hz,
         [pose, timeout](client::MapClient& map) { return outcomeOf(map.labelsAt(pointsInView(pose()), timeout)); }));
-    loops.push_back(std::make_unique<QueryLoop>(participant_, "objects (all labels)", options_.query_hz,
-                                                [timeout](client::MapClient& map) {
+    const double max_age = options_.objects_max_age_s;
+    const std::string objects_name =
+        max_age > 0.0 ? "objects (all labels, max age " + formatNumber(max_age, 1) + " s)" : "objects (all labels)";
+    loops.push_back(std::make_unique<QueryLoop>(participant_, objects_name, options_.query_hz,
+                                                [timeout, max_age](client::MapClient& map) {
                                                   ObjectsRequest request;
                                                   request.min_voxels = 200;
+                                                  request.max_age_s = max_age;
                                                   return outcomeOf(map.objects(request, timeout));
                                                 }));
     loops.push_back(std::make_unique<QueryLoop>(

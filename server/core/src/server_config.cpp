@@ -146,6 +146,13 @@ void addServerOptions(CLI::App& app, ServerConfig& c) {
   app.add_option("--mesh-chunk-bytes", c.queries.mesh_chunk_bytes, "PLY bytes per mesh reply")
       ->group(queries)
       ->capture_default_str();
+  app.add_option("--objects-rate", c.objects_rate_hz,
+                 "times per second the objects are regrouped in the background while the map changes and "
+                 "somebody wants them (an objects query in the last 30 s, a reader of the object events): a "
+                 "query with a max age is answered at once (0 = only on queries)")
+      ->group(queries)
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 30.0));
 
   auto* status = "Status";
   app.add_option("--status-period", c.status_period_s, "seconds between status messages")

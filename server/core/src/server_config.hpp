@@ -57,6 +57,9 @@ struct ServerConfig {
 
   // Queries
   QueryLimits queries;
+  // Background updates of the objects per second while the map changes and somebody wants them
+  // (objects_refresher.hpp); 0 = the objects are grouped on queries only.
+  double objects_rate_hz = 1.0;
 
   // Status
   double status_period_s = 1.0;

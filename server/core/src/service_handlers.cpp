@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <memory>
 #include <optional>
@@ -101,6 +102,17 @@ ServiceReply<std::vector<ObjectInstance>> handleObjects(const ObjectsRequest& re
                        request.radius > kMaxNearRadius))
     return refuse<Reply>(ReplyCode::kInvalidArgument, "near needs a finite point and a radius in (0, " +
                                                           std::to_string(int(kMaxNearRadius)) + "] m");
+  if (!std::isfinite(request.max_age_s) || request.max_age_s < 0.0)
+    return refuse<Reply>(ReplyCode::kInvalidArgument, "max_age must be 0 or more seconds");
+  if (request.max_age_s > 0.0) {
+    const objects::ObjectTracker::Latest latest = tracker.latest();
+    const std::chrono::duration<double> age = std::chrono::steady_clock::now() - latest.current_at;
+    if (latest.set && age.count() <= request.max_age_s) {
+      ServiceReply<Reply> reply;
+      reply.value = selectObjects(*latest.set, request, latest.set->voxel_size);
+      return reply;
+    }
+  }
   const auto snapshot = map.snapshot();
   const auto set = tracker.objectsOf(snapshot);
   ServiceReply<Reply> reply;

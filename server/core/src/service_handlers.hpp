@@ -29,8 +29,10 @@ ServiceReply<std::vector<VoxelSample>> handleLabelsAt(const LabelsAtRequest& req
                                                       const QueryLimits& limits);
 ServiceReply<RegionSummary> handleRegion(const Box& box, const MapAccess& map);
 // The map's objects as `tracker` groups and names them (server/objects/README.md): the same
-// tracker keeps an object's id across calls and as the map grows. Without a tracker, a fresh one
-// (ids from 1 for this call alone: the fuzzer's and the tests' fixed maps).
+// tracker keeps an object's id across calls and as the map grows. With max_age, the tracker's last
+// set when it answered for a map at most that much older than now (the objects refresher keeps it
+// so), else grouped from the map as it is. Without a tracker, a fresh one (ids from 1 for this
+// call alone: the fuzzer's and the tests' fixed maps).
 ServiceReply<std::vector<ObjectInstance>> handleObjects(const ObjectsRequest& request, const MapAccess& map,
                                                         objects::ObjectTracker& tracker);
 ServiceReply<std::vector<ObjectInstance>> handleObjects(const ObjectsRequest& request, const MapAccess& map);

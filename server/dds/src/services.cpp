@@ -61,7 +61,7 @@ Services::Services(const dds::Participant& participant, const ServerConfig& conf
     spdlog::error("object events off: {}", e.what());
     state_.errors.record("object_events", e.what());
   }
-  // On the thread of the query that regrouped the objects (objects or mesh of an object).
+  // On the thread that regrouped the objects (a query of objects or of an object's mesh, sf-objects).
   objects_->setListener([this](const ObjectEvents& update) {
     std::size_t counts[4] = {0, 0, 0, 0};
     for (const ObjectEvent& event : update.events) ++counts[static_cast<int>(event.kind)];
@@ -108,7 +108,11 @@ Services::Services(const dds::Participant& participant, const ServerConfig& conf
       [this](const LabelsAtRequest& request) { return handleLabelsAt(request, map_, limits_); });
   region_server_ = serve<wire::RegionCodec>(participant, topics::region(),
                                             [this](const Box& box) { return handleRegion(box, map_); });
+  objects_refresher_ = std::make_unique<ObjectsRefresher>(map_, *objects_, config.objects_rate_hz, [this] {
+    return object_events_writer_ && object_events_writer_->matchedReaders() > 0;
+  });
   objects_server_ = serve<wire::ObjectsCodec>(participant, topics::objects(), [this](const ObjectsRequest& request) {
+    objects_refresher_->touch();
     return handleObjects(request, map_, *objects_);
   });
   mesh_server_ = serve<wire::MeshCodec>(participant, topics::mesh(), [this](const MeshRequest& request) {

@@ -22,6 +22,7 @@
 #include "map_updater.hpp"
 #include "mapper.hpp"
 #include "mapper_access.hpp"
+#include "objects_refresher.hpp"
 #include "semfuse/dds/participant.hpp"
 #include "semfuse/dds/rpc.hpp"
 #include "semfuse/dds/topic.hpp"
@@ -72,7 +73,8 @@ class Services {
   std::unique_ptr<dds::Writer<semfuse_msg_dds__ObjectEvents_>> object_events_writer_;
   // The map's objects, shared by the objects and mesh services so that ids stay with objects.
   std::unique_ptr<objects::ObjectTracker> objects_;
-  std::pair<float, float> view_depth_range_;  // the map's min and max depth: what a frame saw
+  std::unique_ptr<ObjectsRefresher> objects_refresher_;  // after the tracker: stops before it goes
+  std::pair<float, float> view_depth_range_;             // the map's min and max depth: what a frame saw
   AdminActions admin_;
   DistanceQueryContext distance_;
   // Last, so that their threads stop before what the handlers use goes.

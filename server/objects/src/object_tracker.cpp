@@ -61,20 +61,26 @@ void ObjectTracker::recordView(const Frame& frame, const Pose& camera_to_world, 
 }
 
 std::shared_ptr<const ObjectSet> ObjectTracker::objectsOf(const std::shared_ptr<const volume::LabeledVolume>& map) {
+  const auto called_at = std::chrono::steady_clock::now();
   std::lock_guard lock(mutex_);
+  const auto publish = [&](std::shared_ptr<const ObjectSet> set) {
+    std::lock_guard latest_lock(latest_mutex_);
+    latest_ = {set, called_at};
+    return set;
+  };
   const bool same_map =
       last_ && !last_map_.owner_before(map) && !map.owner_before(last_map_) && last_revision_ == map->revision();
   // The view is recorded just after the frame's integration, so a call in between has the map
   // with the frame but not the frame among those that saw it: such a set gets its frames again.
   const uint64_t views = views_.version();
-  if (same_map && views == last_views_) return last_;
+  if (same_map && views == last_views_) return publish(last_);
   if (same_map) {
     auto refreshed = std::make_shared<ObjectSet>(*last_);
     for (TrackedObject& object : refreshed->objects)
       object.frames = views_.framesSeeing(object.figures.leaves, kFramesPerObject, object.frame_count);
     last_ = refreshed;
     last_views_ = views;
-    return last_;
+    return publish(last_);
   }
 
   using Clock = std::chrono::steady_clock;
@@ -119,12 +125,13 @@ std::shared_ptr<const ObjectSet> ObjectTracker::objectsOf(const std::shared_ptr<
     if (listener_) listener_(events);
   }
   set->update = updates_;
+  set->voxel_size = map->voxelSize();
   last_times_.figures = msSince(start);
   last_ = set;
   last_map_ = map;
   last_revision_ = map->revision();
   last_views_ = views;
-  return set;
+  return publish(set);
 }
 
 }  // namespace semfuse::objects

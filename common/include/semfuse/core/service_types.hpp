@@ -110,6 +110,10 @@ struct ObjectsRequest {
   std::optional<Eigen::Vector3d> near;  // only objects whose surface comes within radius of this point
   double radius = 0.0;                  // metres, with near
   bool include_fragments = false;       // also the pieces too small to be objects
+  // Seconds: the objects the server keeps up to date in the background will do when they were
+  // grouped from a map at most this much older than the request (an answer at once while the map
+  // grows); 0 = grouped from the map as it is.
+  double max_age_s = 0.0;
 };
 // A frame of a camera, as the frames topic names it.
 struct FrameRef {

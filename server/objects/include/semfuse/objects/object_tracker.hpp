@@ -6,6 +6,7 @@
 // that saw them (view_index.hpp); the same snapshot again costs nothing. Every update that
 // changes something is numbered and its events go to the listener. Thread-safe: one update at a
 // time, answers shared between callers.
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -44,6 +45,7 @@ struct ObjectSet {
   std::shared_ptr<const openvdb::Int32Tree> ids;  // object id of every surface voxel
   Eigen::Vector3d up = Eigen::Vector3d::Zero();   // the up the grouping used (zero: unknown)
   uint64_t update = 0;                            // the update that made it
+  double voxel_size = 0.0;                        // of the map it was grouped from, metres
   const TrackedObject* find(uint32_t id) const;
 };
 
@@ -69,6 +71,17 @@ class ObjectTracker {
   // same revision, and only looks up the frames again when frames were recorded since. Every
   // call hands a snapshot of one map, as new as the last or newer (surface_cache.hpp).
   std::shared_ptr<const ObjectSet> objectsOf(const std::shared_ptr<const volume::LabeledVolume>& map);
+
+  // The set of the last call, and when that call began: the map it answers for was at least as
+  // new as the map then. Null before the first call. Does not wait for an update in progress.
+  struct Latest {
+    std::shared_ptr<const ObjectSet> set;
+    std::chrono::steady_clock::time_point current_at;
+  };
+  Latest latest() const {
+    std::lock_guard lock(latest_mutex_);
+    return latest_;
+  }
 
   // Called with the events of every update that has any, under the update's lock (so in order).
   void setListener(std::function<void(const ObjectEvents&)> listener);
@@ -104,6 +117,8 @@ class ObjectTracker {
   std::shared_ptr<const ObjectSet> last_;
   uint64_t updates_ = 0;
   UpdateTimes last_times_;
+  mutable std::mutex latest_mutex_;  // guards latest_ alone, so that latest() never waits for an update
+  Latest latest_;
   std::function<void(const ObjectEvents&)> listener_;
 };
 
