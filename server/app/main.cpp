@@ -23,8 +23,17 @@ int main(int argc, char** argv) {
   semfuse::addYamlConfig(app);
   app.add_option("--log-level", log_level,
                  std::string("log level: ") + semfuse::logLevelNames() + " (default: $SEMFUSE_LOG_LEVEL or info)");
+  bool print_config = false;
+  app.add_flag("--print-config", print_config,
+               "print the effective configuration (defaults, --config file, flags) as YAML that --config reads, "
+               "and exit")
+      ->configurable(false);
   semfuse::server::addServerOptions(app, config);
   CLI11_PARSE(app, argc, argv);
+  if (print_config) {
+    std::fputs(app.config_to_str(/*default_also=*/true, /*write_description=*/false).c_str(), stdout);
+    return 0;
+  }
   if (semfuse::Status ok = semfuse::setupLogging("semfuse-server", log_level); !ok) {
     std::fprintf(stderr, "semfuse-server: %s\n", ok.error().c_str());
     return 2;

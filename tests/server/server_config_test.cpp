@@ -228,3 +228,28 @@ TEST_F(ServerConfigTest, TheMaximumQueueWaitIsSecondsWithinAMinute) {
 }
 
 }  // namespace
+
+// What semfuse-server --print-config writes (the app's configuration as YAML, defaults included)
+// reads back through --config to the same configuration, section keys and lists included.
+TEST_F(ServerConfigTest, ThePrintedConfigurationReadsBackToTheSame) {
+  ServerConfig given;
+  auto app = parsedApp(given,
+                       "--voxel-size 0.02 --label-rule evidence --background-labels 3 4 --objects-rate 2.5 "
+                       "--map-updates.rate 4 --esdf --esdf.max-distance 1.5");
+  const std::string printed = app->config_to_str(/*default_also=*/true, /*write_description=*/false);
+  EXPECT_NE(printed.find("voxel-size: 0.02"), std::string::npos) << printed;
+  EXPECT_NE(printed.find("map-updates:"), std::string::npos) << printed;
+
+  ServerConfig read;
+  auto reread = parsedApp(read, "--config " + write("printed.yaml", printed).string());
+  EXPECT_EQ(reread->config_to_str(true, false), printed);
+  EXPECT_EQ(volume::volumeParamsText(read.volume), volume::volumeParamsText(given.volume));
+  EXPECT_EQ(read.volume.voxel_size, 0.02);
+  EXPECT_EQ(read.volume.label_rule, volume::LabelRule::kEvidence);
+  EXPECT_EQ(read.volume.background_labels, (std::vector<LabelId>{3, 4}));
+  EXPECT_EQ(read.objects_rate_hz, 2.5);
+  EXPECT_EQ(read.map_updates.rate_hz, 4.0);
+  EXPECT_TRUE(read.esdf.enabled);  // a flag and a section at once: esdf.enabled in the file
+  EXPECT_EQ(read.esdf.field.max_distance, 1.5);
+  EXPECT_EQ(read.fusion.history_frames, given.fusion.history_frames);
+}

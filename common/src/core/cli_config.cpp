@@ -116,6 +116,14 @@ void setNested(YAML::Node root, const std::string& dotted, const YAML::Node& val
   node[keys.back()] = value;
 }
 
+// A name that is also a section (--esdf beside --esdf.max-distance) is written by a dotted alias
+// (--esdf.enabled), which the section's YAML map can hold beside its other keys.
+const std::string& yamlName(const CLI::Option& option) {
+  for (const std::string& name : option.get_lnames())
+    if (name.find('.') != std::string::npos) return name;
+  return option.get_lnames().front();
+}
+
 YAML::Node appToYaml(const CLI::App& app, bool default_also) {
   YAML::Node node(YAML::NodeType::Map);
   for (const CLI::Option* option : app.get_options()) {
@@ -134,7 +142,7 @@ YAML::Node appToYaml(const CLI::App& app, bool default_also) {
     } else {
       for (const std::string& v : values) value.push_back(v);
     }
-    setNested(node, option->get_lnames().front(), value);
+    setNested(node, yamlName(*option), value);
   }
   for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) {
     YAML::Node child = appToYaml(*sub, default_also);

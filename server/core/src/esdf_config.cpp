@@ -6,7 +6,8 @@ namespace semfuse::server {
 
 void addEsdfOptions(CLI::App& app, EsdfConfig& c) {
   auto* group = "Distance field and occupancy grid (--esdf)";
-  app.add_flag("--esdf", c.enabled,
+  // --esdf.enabled: the name a YAML `esdf:` section holds it by, beside the field's other keys.
+  app.add_flag("--esdf,--esdf.enabled", c.enabled,
                "keep a Euclidean signed distance field of the map (observed free space included) and serve "
                "distance, occupancy_slice, semantic_distance, semantic_slice, segment_check; publish "
                "rt/semfuse/occupancy")
