@@ -8,6 +8,13 @@
 
 namespace semfuse::bench::ingest {
 
+std::size_t routeIndex(std::size_t step, std::size_t frames) {
+  if (frames < 2) return 0;
+  const std::size_t period = 2 * frames - 2;
+  const std::size_t along = step % period;
+  return along < frames ? along : period - along;
+}
+
 void runCamera(const Preloaded& data, const dds::Writer<FrameMsg>& writer, std::string camera_id,
                std::size_t first_index, std::chrono::steady_clock::time_point start,
                std::chrono::steady_clock::duration period, std::size_t slots, CameraResult& result,
@@ -20,7 +27,7 @@ void runCamera(const Preloaded& data, const dds::Writer<FrameMsg>& writer, std::
       continue;
     }
     std::this_thread::sleep_until(due);
-    const std::size_t index = (first_index + slot) % data.frames.size();
+    const std::size_t index = routeIndex(first_index + slot, data.frames.size());
     FrameMsg msg = data.frames[index].msg();
     msg.camera_id = camera_id.data();
     msg.seq = result.sent + result.write_failures;

@@ -1,10 +1,11 @@
 #pragma once
-// One camera of the ingest and load benches: frames first_index, first_index+1, ... (wrapping) at
-// slot times start + n * period. A slot that is already over when the previous write returns is
-// skipped, not sent late in a burst: a real camera does not queue its frames either. Frames are
-// numbered by write attempt, not by slot, so a skipped slot is no gap in the sequence the server
-// sees (it would count one as a frame lost on the way). Without poses the camera sends none and
-// the server tracks it.
+// One camera of the ingest and load benches: frames first_index, first_index+1, ... at slot times
+// start + n * period, back along the sequence from its end and forth again from its start, as a
+// robot that goes back along its route: a camera that jumped from the last frame to the first
+// would be lost at every lap, which a moving robot never is. A slot that is already over when the previous write
+// returns is skipped, not sent late in a burst: a real camera does not queue its frames either. Frames are numbered by
+// write attempt, not by slot, so a skipped slot is no gap in the sequence the server sees (it would count one as a
+// frame lost on the way). Without poses the camera sends none and the server tracks it.
 #include <atomic>
 #include <chrono>
 #include <cstddef>
@@ -16,6 +17,9 @@
 #include "semfuse/dds/writer.hpp"
 
 namespace semfuse::bench::ingest {
+
+// The frame of a sequence of `frames` at `step` of the route 0, 1, ..., frames-1, frames-2, ..., 1, 0, 1, ...
+std::size_t routeIndex(std::size_t step, std::size_t frames);
 
 using FrameMsg = semfuse_msg_dds__Frame_;
 
