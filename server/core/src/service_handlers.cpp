@@ -104,19 +104,18 @@ ServiceReply<std::vector<ObjectInstance>> handleObjects(const ObjectsRequest& re
                                                           std::to_string(int(kMaxNearRadius)) + "] m");
   if (!std::isfinite(request.max_age_s) || request.max_age_s < 0.0)
     return refuse<Reply>(ReplyCode::kInvalidArgument, "max_age must be 0 or more seconds");
+  std::shared_ptr<const objects::ObjectSet> set;
   if (request.max_age_s > 0.0) {
+    const std::chrono::duration<double> max_age(request.max_age_s);
+    // Without waiting while an update runs, when the last set will do; else after it.
     const objects::ObjectTracker::Latest latest = tracker.latest();
-    const std::chrono::duration<double> age = std::chrono::steady_clock::now() - latest.current_at;
-    if (latest.set && age.count() <= request.max_age_s) {
-      ServiceReply<Reply> reply;
-      reply.value = selectObjects(*latest.set, request, latest.set->voxel_size);
-      return reply;
-    }
+    if (latest.set && std::chrono::steady_clock::now() - latest.current_at <= max_age) set = latest.set;
+    else set = tracker.recentOrOf(max_age, [&map] { return map.snapshot(); });
+  } else {
+    set = tracker.objectsOf(map.snapshot());
   }
-  const auto snapshot = map.snapshot();
-  const auto set = tracker.objectsOf(snapshot);
   ServiceReply<Reply> reply;
-  reply.value = selectObjects(*set, request, snapshot->voxelSize());
+  reply.value = selectObjects(*set, request, set->voxel_size);
   return reply;
 }
 

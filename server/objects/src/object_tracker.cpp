@@ -63,6 +63,20 @@ void ObjectTracker::recordView(const Frame& frame, const Pose& camera_to_world, 
 std::shared_ptr<const ObjectSet> ObjectTracker::objectsOf(const std::shared_ptr<const volume::LabeledVolume>& map) {
   const auto called_at = std::chrono::steady_clock::now();
   std::lock_guard lock(mutex_);
+  return update(map, called_at);
+}
+
+std::shared_ptr<const ObjectSet> ObjectTracker::recentOrOf(
+    std::chrono::duration<double> max_age, const std::function<std::shared_ptr<const volume::LabeledVolume>()>& map) {
+  std::lock_guard lock(mutex_);
+  // The update this call waited for may have been recent enough.
+  const auto now = std::chrono::steady_clock::now();
+  if (const Latest recent = latest(); recent.set && now - recent.current_at <= max_age) return recent.set;
+  return update(map(), now);
+}
+
+std::shared_ptr<const ObjectSet> ObjectTracker::update(const std::shared_ptr<const volume::LabeledVolume>& map,
+                                                       std::chrono::steady_clock::time_point called_at) {
   const auto publish = [&](std::shared_ptr<const ObjectSet> set) {
     std::lock_guard latest_lock(latest_mutex_);
     latest_ = {set, called_at};

@@ -72,6 +72,12 @@ class ObjectTracker {
   // call hands a snapshot of one map, as new as the last or newer (surface_cache.hpp).
   std::shared_ptr<const ObjectSet> objectsOf(const std::shared_ptr<const volume::LabeledVolume>& map);
 
+  // The last set when it answered for a map at most max_age older than now, or else the objects
+  // of map() (a snapshot taken once this call has the update's lock): a caller that waited for an
+  // update in progress takes its set when it is recent enough, instead of grouping again.
+  std::shared_ptr<const ObjectSet> recentOrOf(std::chrono::duration<double> max_age,
+                                              const std::function<std::shared_ptr<const volume::LabeledVolume>()>& map);
+
   // The set of the last call, and when that call began: the map it answers for was at least as
   // new as the map then. Null before the first call. Does not wait for an update in progress.
   struct Latest {
@@ -103,6 +109,10 @@ class ObjectTracker {
   }
 
  private:
+  // objectsOf() with the update's lock held.
+  std::shared_ptr<const ObjectSet> update(const std::shared_ptr<const volume::LabeledVolume>& map,
+                                          std::chrono::steady_clock::time_point called_at);
+
   ObjectParams params_;
   LabelLegend legend_;
   ViewIndex views_;
