@@ -9,6 +9,8 @@
 #include <cstdlib>
 #include <numeric>
 
+#include "semfuse/core/percentile.hpp"
+
 namespace semfuse::bench {
 
 std::filesystem::path sharedDir() {
@@ -25,8 +27,7 @@ double Timings::percentile(double p) const {
   if (samples_.empty()) return 0;
   std::vector<double> sorted = samples_;
   std::sort(sorted.begin(), sorted.end());
-  const auto rank = static_cast<std::size_t>(std::ceil(p / 100.0 * static_cast<double>(sorted.size())));
-  return sorted[std::clamp<std::size_t>(rank, 1, sorted.size()) - 1];
+  return nearestRankPercentile(sorted, p);
 }
 
 double CpuStopwatch::now() {

@@ -1,7 +1,8 @@
 #include "stage_timings.hpp"
 
 #include <algorithm>
-#include <cmath>
+
+#include "semfuse/core/percentile.hpp"
 
 namespace semfuse::server {
 
@@ -52,12 +53,8 @@ std::vector<StageTiming> StageTimings::summary() const {
     if (samples.count == 0) continue;
     sorted = samples.recent;
     std::sort(sorted.begin(), sorted.end());
-    // Nearest rank, as the benches report percentiles.
-    const auto rank = [&](double p) {
-      const auto k = static_cast<std::size_t>(std::ceil(p / 100.0 * static_cast<double>(sorted.size())));
-      return sorted[std::clamp<std::size_t>(k, 1, sorted.size()) - 1];
-    };
-    out.push_back({stageName(static_cast<Stage>(i)), samples.count, rank(50), rank(95), sorted.back()});
+    out.push_back({stageName(static_cast<Stage>(i)), samples.count, nearestRankPercentile(sorted, 50),
+                   nearestRankPercentile(sorted, 95), sorted.back()});
   }
   return out;
 }

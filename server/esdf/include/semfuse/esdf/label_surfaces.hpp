@@ -32,7 +32,6 @@ class LabelSurfaces {
 
   // Bumped by every change: a cache of gathered points is valid while it stays the same.
   uint64_t revision() const { return revision_; }
-  std::size_t pointCount() const { return points_; }
   std::size_t memoryBytes() const;
 
  private:
