@@ -6,7 +6,8 @@
 #   deploy/figures.sh load-robot ...  only the named ones
 #   deploy/figures.sh --no-build ...  use the existing build
 #
-# volume       semfuse-bench volume: integration and labels, evidence and bayes rules (volume-evidence, volume-bayes)
+# volume       semfuse-bench volume: integration and labels, evidence and bayes rules (volume-evidence, volume-bayes),
+#              and the two rules interleaved in one run (volume-rules)
 # render       semfuse-bench render: raycast and mesh
 # load-robot   semfuse-bench load --scenario robot: one tracked camera at 30 Hz, its segmenter, light queries
 # load-full    semfuse-bench load --scenario full: 4 cameras (2 tracked), 2 segmenters, heavy queries
@@ -66,7 +67,8 @@ for name in "${names[@]}"; do
                     '$root/out/figures-track/status.txt'" ;;
     volume)
       figure volume-evidence "$bench" volume --data "$kitchen" --label-rule evidence
-      figure volume-bayes "$bench" volume --data "$kitchen" --label-rule bayes ;;
+      figure volume-bayes "$bench" volume --data "$kitchen" --label-rule bayes
+      figure volume-rules "$bench" volume --data "$kitchen" --compare-rules ;;
     render) figure render "$bench" render --data "$kitchen" ;;
     ingest) figure ingest "$bench" ingest --data "$kitchen" ;;
     objects) figure objects-room "$bench" objects ;;
