@@ -16,6 +16,9 @@
 # track-server deploy/track.sh: the same sequence through the server at 30 Hz
 # ingest       semfuse-bench ingest: 1, 2 and 4 posed cameras at 30 Hz, then 2 cameras + raycasts at 10 Hz
 # objects      semfuse-bench objects: the objects query on the synthetic room (objects-room)
+# map-updates  semfuse-bench map-updates: the live mesh's rounds on a 1 cm map with the default 2 cm and a
+#              1 cm live mesh, and on a 2 cm map (map-updates-1cm, map-updates-1cm-live-1cm, map-updates-2cm);
+#              then over DDS, two cameras into a server with a map follower (map-updates-dds)
 # esdf         semfuse-bench esdf: the distance field on redkitchen, 5 and 2 cm maps with fields of
 #              their voxels (esdf-5cm, esdf-2cm), the default 1 cm map under 4, 2 and 1 cm fields
 #              (esdf-map-4cm, esdf-map-2cm, esdf-map-1cm)
@@ -29,12 +32,12 @@ while [[ $# -gt 0 ]]; do
   case "$1" in
     --no-build) build=0; shift ;;
     --build-dir) build_dir="$2"; shift 2 ;;
-    -h|--help) sed -n '2,21p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,25p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
     -*) echo "figures: unknown option $1" >&2; exit 2 ;;
     *) names+=("$1"); shift ;;
   esac
 done
-[[ ${#names[@]} -gt 0 ]] || names=(volume render load-robot load-full load-cores track track-server ingest objects esdf)
+[[ ${#names[@]} -gt 0 ]] || names=(volume render load-robot load-full load-cores track track-server ingest objects map-updates esdf)
 
 shared="${SEMFUSE_SHARED:-$root/../shared}"
 kitchen="$shared/data/7scenes-redkitchen"
@@ -72,6 +75,12 @@ for name in "${names[@]}"; do
     render) figure render "$bench" render --data "$kitchen" ;;
     ingest) figure ingest "$bench" ingest --data "$kitchen" ;;
     objects) figure objects-room "$bench" objects ;;
+    map-updates)
+      figure map-updates-1cm "$bench" map-updates --data "$kitchen" --voxel 0.01 --trunc 0.04
+      figure map-updates-1cm-live-1cm "$bench" map-updates --data "$kitchen" --voxel 0.01 --trunc 0.04 --live-voxel 0.01
+      figure map-updates-2cm "$bench" map-updates --data "$kitchen"
+      figure map-updates-dds "$bench" ingest --data "$kitchen" --cameras 2 --raycast-duration 0 --duration 15 \
+        --follow-map ;;
     esdf)
       figure esdf-5cm "$bench" esdf --data "$kitchen" --voxel 0.05 --frames 500
       figure esdf-2cm "$bench" esdf --data "$kitchen" --voxel 0.02 --field-voxel 0.02 --frames 500
