@@ -7,8 +7,9 @@
 #   deploy/figures.sh --no-build ...  use the existing build
 #
 # volume       semfuse-bench volume: integration and labels, evidence and bayes rules (volume-evidence, volume-bayes),
-#              and the two rules interleaved in one run (volume-rules)
-# render       semfuse-bench render: raycast and mesh
+#              the two rules interleaved in one run (volume-rules), the scalar and AVX2 kernels interleaved
+#              (volume-kernels-evidence, volume-kernels-bayes)
+# render       semfuse-bench render: raycast and mesh (render), and the heavier view of a 500-frame map (render-500)
 # load-robot   semfuse-bench load --scenario robot: one tracked camera at 30 Hz, its segmenter, light queries
 # load-full    semfuse-bench load --scenario full: 4 cameras (2 tracked), 2 segmenters, heavy queries
 # load-cores   the robot scenario with the server pinned to 1 core, then to 2 (taskset)
@@ -32,7 +33,7 @@ while [[ $# -gt 0 ]]; do
   case "$1" in
     --no-build) build=0; shift ;;
     --build-dir) build_dir="$2"; shift 2 ;;
-    -h|--help) sed -n '2,25p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "${BASH_SOURCE[0]}"; exit 0 ;;
     -*) echo "figures: unknown option $1" >&2; exit 2 ;;
     *) names+=("$1"); shift ;;
   esac
@@ -71,8 +72,12 @@ for name in "${names[@]}"; do
     volume)
       figure volume-evidence "$bench" volume --data "$kitchen" --label-rule evidence
       figure volume-bayes "$bench" volume --data "$kitchen" --label-rule bayes
-      figure volume-rules "$bench" volume --data "$kitchen" --compare-rules ;;
-    render) figure render "$bench" render --data "$kitchen" ;;
+      figure volume-rules "$bench" volume --data "$kitchen" --compare-rules
+      figure volume-kernels-evidence "$bench" volume --data "$kitchen" --compare-kernels
+      figure volume-kernels-bayes "$bench" volume --data "$kitchen" --compare-kernels --label-rule bayes ;;
+    render)
+      figure render "$bench" render --data "$kitchen"
+      figure render-500 "$bench" render --data "$kitchen" --frames 500 --views 1 --no-baseline ;;
     ingest) figure ingest "$bench" ingest --data "$kitchen" ;;
     objects) figure objects-room "$bench" objects ;;
     map-updates)
