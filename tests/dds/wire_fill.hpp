@@ -227,6 +227,7 @@ inline void fill(semfuse_msg_dds__ServerStatus_& m, Filler& f) {
   fillEach(m.stages, 2, f);
   m.map_revision = f.u64();
   m.distance_field_revision = f.u64();
+  m.snapshot_bytes = f.u64();
 }
 inline void fill(semfuse_msg_dds__LabelEntry_& m, Filler& f) {
   m.id = f.u16();

@@ -208,7 +208,8 @@ const char* kStatus =
     "last_errors[0].stamp.sec=3\nlast_errors[0].stamp.nanosec=4\nlast_errors[0].source=\"ingest\"\n"
     "last_errors[0].message=\"depth: unknown encoding 'rgb16'\"\nmap_file=\"/tmp/map.vdb\"\nlast_save_ok=true\n"
     "last_save_age_s=1.5\nstages[0].stage=\"frame_decode\"\nstages[0].count=100\nstages[0].p50_ms=2.5\n"
-    "stages[0].p95_ms=4.25\nstages[0].max_ms=11\nmap_revision=12000000000\ndistance_field_revision=11\n";
+    "stages[0].p95_ms=4.25\nstages[0].max_ms=11\nmap_revision=12000000000\ndistance_field_revision=11\n"
+    "snapshot_bytes=140000000\n";
 
 // What rt/semfuse/occupancy carries.
 const char* kOccupancyGrid =
@@ -315,6 +316,7 @@ TEST_F(FoxgloveInterop, SemfuseMessagesFromTheMsgFilesAgreeFieldForField) {
         EXPECT_FLOAT_EQ(m.stages._buffer[0].p95_ms, 4.25f);
         EXPECT_EQ(m.map_revision, 12000000000ull);
         EXPECT_EQ(m.distance_field_revision, 11u);
+        EXPECT_EQ(m.snapshot_bytes, 140000000u);
       });
 }
 

@@ -46,9 +46,11 @@ TEST(MapperSnapshot, AHeldCopyNeverChangesAndAnIdleOneCatchesUp) {
     ASSERT_TRUE(outcome.ok() && outcome.value().integrated);
   };
 
+  EXPECT_EQ(mapper.snapshotBytes(), 0u);  // no query yet: no copy
   integrate(0);
   auto first = mapper.snapshot();
   expectEqualsMap(*first, mapper);
+  EXPECT_EQ(mapper.snapshotBytes(), first->memoryBytes());
   EXPECT_EQ(mapper.snapshot(), first);  // no write since: the same copy
   const uint64_t first_revision = first->revision();
   const std::size_t first_voxels = first->observedVoxels();
@@ -60,6 +62,8 @@ TEST(MapperSnapshot, AHeldCopyNeverChangesAndAnIdleOneCatchesUp) {
   EXPECT_EQ(first->revision(), first_revision);
   EXPECT_EQ(first->observedVoxels(), first_voxels);
   EXPECT_GT(second->observedVoxels(), first_voxels);
+  // Two copies kept, as the status reports them.
+  EXPECT_EQ(mapper.snapshotBytes(), first->memoryBytes() + second->memoryBytes());
 
   // The query that held the first copy ends: the next snapshot is that copy, caught up.
   const volume::LabeledVolume* released = first.get();

@@ -194,6 +194,7 @@ ServerStatus testStatus() {
   s.stages = {{"frame_decode", 120, 1.5F, 3.25F, 9.0F}, {"integrate", 118, 4.0F, 7.5F, 30.0F}};
   s.map_revision = 9000000000ull;
   s.distance_field_revision = 8999999990ull;
+  s.snapshot_bytes = 123456789ull;
   return s;
 }
 
@@ -256,6 +257,7 @@ void expectSameStatus(const ServerStatus& in, const ServerStatus& out) {
   EXPECT_EQ(out.last_save_age_s, in.last_save_age_s);
   EXPECT_EQ(out.map_revision, in.map_revision);
   EXPECT_EQ(out.distance_field_revision, in.distance_field_revision);
+  EXPECT_EQ(out.snapshot_bytes, in.snapshot_bytes);
   ASSERT_EQ(out.stages.size(), in.stages.size());
   for (size_t i = 0; i < in.stages.size(); ++i) {
     EXPECT_EQ(out.stages[i].stage, in.stages[i].stage);

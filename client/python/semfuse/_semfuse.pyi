@@ -222,6 +222,9 @@ class ServerStatus:
     def distance_field_revision(self) -> int:
         """The map revision the distance field reflects (0 without --esdf)."""
     @property
+    def snapshot_bytes(self) -> int:
+        """Bytes of the map's copies kept for queries that run without its lock (region, objects, mesh)."""
+    @property
     def voxel_size(self) -> float: ...
     @property
     def truncation(self) -> float: ...

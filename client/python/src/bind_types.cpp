@@ -183,6 +183,8 @@ void bindStatus(py::module_& m) {
       .def_readonly("map_revision", &ServerStatus::map_revision, "Raised by every change to the map.")
       .def_readonly("distance_field_revision", &ServerStatus::distance_field_revision,
                     "The map revision the distance field reflects (0 without --esdf).")
+      .def_readonly("snapshot_bytes", &ServerStatus::snapshot_bytes,
+                    "Bytes of the map's copies kept for queries that run without its lock (region, objects, mesh).")
       .def_readonly("voxel_size", &ServerStatus::voxel_size)
       .def_readonly("truncation", &ServerStatus::truncation)
       .def_readonly("allocated_voxels", &ServerStatus::allocated_voxels)

@@ -101,6 +101,7 @@ void encodeServerStatus(const ServerStatus& s, Stamp stamp, semfuse_msg_dds__Ser
   }
   out.map_revision = s.map_revision;
   out.distance_field_revision = s.distance_field_revision;
+  out.snapshot_bytes = s.snapshot_bytes;
 }
 
 Result<ServerStatus> decodeServerStatus(const semfuse_msg_dds__ServerStatus_& msg) {
@@ -171,6 +172,7 @@ Result<ServerStatus> decodeServerStatus(const semfuse_msg_dds__ServerStatus_& ms
   }
   s.map_revision = msg.map_revision;
   s.distance_field_revision = msg.distance_field_revision;
+  s.snapshot_bytes = msg.snapshot_bytes;
   return s;
 }
 

@@ -160,7 +160,10 @@ Result<LoadResult> LoadRun::run(pid_t pid) {
   std::fflush(stdout);
   RssTimeline rss(pid, [this] {
     const auto status = map_.latestStatus();
-    return status ? static_cast<double>(status->map_bytes) / (1024.0 * 1024.0) : 0.0;
+    constexpr double kMiB = 1024.0 * 1024.0;
+    return status ? MapMiB{static_cast<double>(status->map_bytes) / kMiB,
+                           static_cast<double>(status->snapshot_bytes) / kMiB}
+                  : MapMiB{};
   });
   const ingest::CpuSample cpu_start = ingest::sampleCpu(pid);
   const ingest::CpuSample bench_cpu_start = ingest::sampleCpu(::getpid());

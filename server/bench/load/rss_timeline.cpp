@@ -30,7 +30,7 @@ double slopePerMinute(const std::vector<RssSample>& samples, Value value) {
 
 }  // namespace
 
-RssTimeline::RssTimeline(pid_t pid, std::function<double()> map_mib)
+RssTimeline::RssTimeline(pid_t pid, std::function<MapMiB()> map_mib)
     : pid_(pid), map_mib_(std::move(map_mib)), thread_([this] { loop(); }) {}
 
 RssTimeline::~RssTimeline() {
@@ -42,7 +42,8 @@ void RssTimeline::loop() {
   const auto start = std::chrono::steady_clock::now();
   for (auto next = start; running_; next += std::chrono::seconds(1)) {
     const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    RssSample sample{t, ingest::procStatusMiB(pid_, "VmRSS:"), map_mib_()};
+    const MapMiB map = map_mib_();
+    RssSample sample{t, ingest::procStatusMiB(pid_, "VmRSS:"), map.map, map.copies};
     {
       std::lock_guard lock(mutex_);
       samples_.push_back(sample);
@@ -67,12 +68,14 @@ RssSummary RssTimeline::summary() {
   s.end_mib = all.back().rss_mib;
   s.map_start_mib = all.front().map_mib;
   s.map_end_mib = all.back().map_mib;
+  s.copies_start_mib = all.front().copies_mib;
+  s.copies_end_mib = all.back().copies_mib;
   for (const auto& sample : all) s.max_mib = std::max(s.max_mib, sample.rss_mib);
   s.slope_mib_per_min = slopePerMinute(all, [](const RssSample& x) { return x.rss_mib; });
-  s.non_map_slope_mib_per_min = slopePerMinute(all, [](const RssSample& x) { return x.rss_mib - x.map_mib; });
+  s.non_map_slope_mib_per_min = slopePerMinute(all, [](const RssSample& x) { return x.nonMapMiB(); });
   const std::vector<RssSample> late(all.begin() + static_cast<std::ptrdiff_t>(all.size() / 2), all.end());
   s.late_slope_mib_per_min = slopePerMinute(late, [](const RssSample& x) { return x.rss_mib; });
-  s.late_non_map_slope_mib_per_min = slopePerMinute(late, [](const RssSample& x) { return x.rss_mib - x.map_mib; });
+  s.late_non_map_slope_mib_per_min = slopePerMinute(late, [](const RssSample& x) { return x.nonMapMiB(); });
   return s;
 }
 

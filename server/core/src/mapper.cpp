@@ -263,6 +263,13 @@ std::shared_ptr<const volume::LabeledVolume> Mapper::snapshot() const {
   return copy;
 }
 
+uint64_t Mapper::snapshotBytes() const {
+  std::lock_guard snapshot_lock(snapshot_mutex_);  // no copy is caught up meanwhile
+  uint64_t bytes = 0;
+  for (const auto& copy : copies_) bytes += copy->memoryBytes();
+  return bytes;
+}
+
 Mapper::Size Mapper::size() const {
   std::shared_lock lock(mutex_);
   return {volume_.allocatedVoxels(), volume_.allocatedLeaves(), volume_.observedVoxels(), volume_.memoryBytes(),

@@ -130,6 +130,8 @@ class Mapper {
     uint64_t frames_integrated = 0;
   };
   Size size() const;  // counts the map's voxels: for the status, not for every frame
+  // Bytes of the copies snapshot() keeps (a query may still hold one it let go of).
+  uint64_t snapshotBytes() const;
   uint64_t framesIntegrated() const;
   // The map's revision (LabeledVolume::revision): raised by every change, so status, query caches
   // and the distance field tell whether the map changed.

@@ -284,6 +284,7 @@ ServerStatus FusionServer::snapshot() const {
   s.allocated_voxels = size.allocated_voxels;
   s.allocated_blocks = size.allocated_blocks;
   s.map_bytes = size.memory_bytes;
+  s.snapshot_bytes = mapper_->snapshotBytes();
   s.rss_bytes = currentRssBytes();
   const auto now = std::chrono::steady_clock::now();
   for (const auto& [id, a] : state_.cameras()) {

@@ -74,6 +74,7 @@ struct ServerStatus {
   std::vector<StageTiming> stages;       // the stages that ran at least once, in pipeline order
   uint64_t map_revision = 0;             // raised by every change to the map
   uint64_t distance_field_revision = 0;  // the map revision the distance field reflects; 0 without one
+  uint64_t snapshot_bytes = 0;  // the map's copies kept for queries that run without its lock (region, objects, mesh)
 };
 
 // Name of a tracking state ("given", "tracked", "refined", "lost", "unknown").
