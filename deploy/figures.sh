@@ -2,7 +2,7 @@
 # Regenerates the service's figures under docs/figures/: each file is the output of one
 # benchmark run on this machine, with the command that made it as its first line.
 #
-#   deploy/figures.sh                 all of them (about 30 minutes on 2 cores)
+#   deploy/figures.sh                 all of them (about 35 minutes on 2 cores)
 #   deploy/figures.sh load-robot ...  only the named ones
 #   deploy/figures.sh --no-build ...  use the existing build
 #
@@ -11,6 +11,7 @@
 #              (volume-kernels-evidence, volume-kernels-bayes)
 # render       semfuse-bench render: raycast and mesh (render), and the heavier view of a 500-frame map (render-500)
 # load-robot   semfuse-bench load --scenario robot: one tracked camera at 30 Hz, its segmenter, light queries
+# load-robot-300  the same for 300 s: what memory does once the buffers have filled
 # load-full    semfuse-bench load --scenario full: 4 cameras (2 tracked), 2 segmenters, heavy queries
 # load-cores   the robot scenario with the server pinned to 1 core, then to 2 (taskset)
 # track        semfuse-bench track: every case of freiburg1_xyz, redkitchen and the synthetic room, in process
@@ -38,7 +39,7 @@ while [[ $# -gt 0 ]]; do
     *) names+=("$1"); shift ;;
   esac
 done
-[[ ${#names[@]} -gt 0 ]] || names=(volume render load-robot load-full load-cores track track-server ingest objects map-updates esdf)
+[[ ${#names[@]} -gt 0 ]] || names=(volume render load-robot load-robot-300 load-full load-cores track track-server ingest objects map-updates esdf)
 
 shared="${SEMFUSE_SHARED:-$root/../shared}"
 kitchen="$shared/data/7scenes-redkitchen"
@@ -63,6 +64,7 @@ figure() {
 for name in "${names[@]}"; do
   case "$name" in
     load-robot) figure load-robot "$bench" load --data "$kitchen" --scenario robot --duration 60 ;;
+    load-robot-300) figure load-robot-300 "$bench" load --data "$kitchen" --scenario robot --duration 300 ;;
     load-full) figure load-full "$bench" load --data "$kitchen" --scenario full --duration 60 ;;
     load-cores) figure load-cores "$bench" load --data "$kitchen" --scenario robot --duration 30 --compare-cores ;;
     track) figure track "$bench" track ;;
