@@ -7,10 +7,7 @@
 #include <spdlog/spdlog.h>
 
 #include "mesh_block_encoding.hpp"
-#include "semfuse/core/thread_name.hpp"
 #include "semfuse/render/mesh_blocks.hpp"
-#include "tbb_worker_names.hpp"
-#include "thread_priority.hpp"
 
 namespace semfuse::server {
 namespace {
@@ -49,26 +46,11 @@ MapUpdater::~MapUpdater() { stop(); }
 
 void MapUpdater::start() {
   if (!(config_.rate_hz > 0.0)) return;
-  {
-    std::lock_guard lock(mutex_);
-    running_ = true;
-  }
-  thread_ = std::thread([this] {
-    setCurrentThreadName("sf-map-updates");
-    lowerToQueryPriority();
-    nameTbbWorkers();
-    run();
-  });
+  const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / config_.rate_hz));
+  rounds_.start("sf-map-updates", period, [this] { update(); });
 }
 
-void MapUpdater::stop() {
-  {
-    std::lock_guard lock(mutex_);
-    running_ = false;
-  }
-  wake_.notify_all();
-  if (thread_.joinable()) thread_.join();
-}
+void MapUpdater::stop() { rounds_.stop(); }
 
 void MapUpdater::touch() { touched_at_ns_ = nowNs(); }
 
@@ -76,25 +58,6 @@ bool MapUpdater::wanted() const {
   if (sink_.listening()) return true;
   const int64_t touched = touched_at_ns_.load();
   return touched != 0 && static_cast<double>(nowNs() - touched) * 1e-9 < config_.idle_after_s;
-}
-
-void MapUpdater::run() {
-  const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / config_.rate_hz));
-  auto next = Clock::now() + period;
-  std::unique_lock lock(mutex_);
-  while (running_) {
-    wake_.wait_until(lock, next, [this] { return !running_; });
-    if (!running_) break;
-    lock.unlock();
-    try {
-      update();
-    } catch (const std::exception& e) {
-      spdlog::error("map updates: {}", e.what());
-    }
-    // A fixed schedule; a round that overran starts the next one at once, not a burst.
-    next = std::max(next + period, Clock::now());
-    lock.lock();
-  }
 }
 
 MapUpdater::Round MapUpdater::update() {

@@ -16,14 +16,13 @@
 // catches up with everything that changed meanwhile.
 #include <atomic>
 #include <chrono>
-#include <condition_variable>
 #include <cstdint>
 #include <mutex>
-#include <thread>
 
 #include "map_access.hpp"
 #include "map_update_config.hpp"
 #include "mesh_block_store.hpp"
+#include "periodic_thread.hpp"
 #include "semfuse/core/map_blocks.hpp"
 #include "stage_timings.hpp"
 
@@ -73,7 +72,6 @@ class MapUpdater {
 
  private:
   bool wanted() const;
-  void run();
   std::size_t publishParts(std::vector<MeshBlock> blocks, bool cleared);
 
   const MapAccess& map_;
@@ -87,10 +85,7 @@ class MapUpdater {
   mutable std::mutex totals_mutex_;
   Totals totals_;
 
-  std::mutex mutex_;
-  std::condition_variable wake_;
-  bool running_ = false;  // under mutex_
-  std::thread thread_;
+  PeriodicThread rounds_;  // last: stops before what its rounds use goes
 };
 
 }  // namespace semfuse::server

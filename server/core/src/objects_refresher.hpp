@@ -6,12 +6,10 @@
 // or an objects query in the last kIdleAfter; the same map again costs nothing.
 #include <atomic>
 #include <chrono>
-#include <condition_variable>
 #include <functional>
-#include <mutex>
-#include <thread>
 
 #include "map_access.hpp"
+#include "periodic_thread.hpp"
 #include "semfuse/objects/object_tracker.hpp"
 
 namespace semfuse::server {
@@ -23,7 +21,6 @@ class ObjectsRefresher {
   // `listening`: whether the object events have a reader. No thread when rate_hz is 0.
   ObjectsRefresher(const MapAccess& map, objects::ObjectTracker& tracker, double rate_hz,
                    std::function<bool()> listening);
-  ~ObjectsRefresher();
   ObjectsRefresher(const ObjectsRefresher&) = delete;
   ObjectsRefresher& operator=(const ObjectsRefresher&) = delete;
 
@@ -32,16 +29,12 @@ class ObjectsRefresher {
 
  private:
   bool wanted() const;
-  void run(std::chrono::steady_clock::duration period);
 
   const MapAccess& map_;
   objects::ObjectTracker& tracker_;
   std::function<bool()> listening_;
   std::atomic<std::chrono::steady_clock::rep> touched_at_{0};  // 0: never
-  std::mutex mutex_;
-  std::condition_variable wake_;
-  bool running_ = true;
-  std::thread thread_;
+  PeriodicThread rounds_;                                      // last: stops before what its rounds use goes
 };
 
 }  // namespace semfuse::server
